@@ -1,0 +1,56 @@
+"""Algorithm configurations (thesis Table 4.3; CrossQ paper defaults where it is silent)."""
+
+import dataclasses
+
+
+@dataclasses.dataclass(frozen=True)
+class AgentConfig:
+    """Every choice of an agent of the SAC family, one named field each."""
+
+    name: str
+    learning_rate: float
+    """Adam step size for actor, critic and temperature (Table 4.3)."""
+    batch_size: int
+    hidden: tuple = (256, 256)
+    """Actor and critic hidden layers (Table 4.3: 256, 256)."""
+    ensemble_size: int = 2
+    gamma: float = 0.99
+    target_entropy_per_action: float = -0.5
+    """Target entropy = this x |A| (Table 4.3: -dim(A)/2)."""
+    initial_alpha: float = 1.0
+    adam_b1: float = 0.9
+    updates_per_step: int = 1
+    """Gradient updates per environment step (the replay or UTD ratio)."""
+    policy_delay: int = 1
+    """Actor and temperature are updated on every n-th critic update."""
+    target_network: bool = True
+    tau: float = 0.005
+    """Polyak factor of the target critic; unused without a target network."""
+    batch_renorm: bool = False
+    """Batch renormalisation in the critic, fed the joint [s; s'] batch (CrossQ)."""
+    renorm_momentum: float = 0.99
+    renorm_warmup_steps: int = 100_000
+    dropout_rate: float = 0.0
+    layer_norm: bool = False
+    control_hz: float = 40.0
+    """Control frequency the thesis ran this algorithm at (Table 4.3 'inference frequency')."""
+
+    def replace(self, **changes) -> "AgentConfig":
+        return dataclasses.replace(self, **changes)
+
+
+def crossq() -> AgentConfig:
+    """CrossQ (Bhatt/Palenicek et al.): no target network, batch renorm, joint forward pass."""
+    return AgentConfig(
+        name="crossq",
+        learning_rate=0.005,
+        batch_size=128,
+        target_network=False,
+        batch_renorm=True,
+        policy_delay=3,
+        adam_b1=0.5,
+        control_hz=40.0,
+    )
+
+
+ALGORITHMS = {"crossq": crossq}

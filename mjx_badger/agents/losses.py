@@ -1,0 +1,84 @@
+"""Critic, actor and temperature losses of the SAC family, built from one config.
+
+A factory closes over the networks and the config and returns pure functions; which
+algorithm they implement is decided only by config fields (target network or joint
+batch-renormalised pass, dropout, layer norm).
+"""
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from mjx_badger.agents.config import AgentConfig
+from mjx_badger.agents.networks import sample_action
+
+
+class Transition(NamedTuple):
+    """A batch of transitions: obs (B, O), action (B, A), reward (B,), next_obs (B, O), discount (B,)."""
+
+    obs: jnp.ndarray
+    action: jnp.ndarray
+    reward: jnp.ndarray
+    next_obs: jnp.ndarray
+    discount: jnp.ndarray
+
+
+class Losses(NamedTuple):
+    critic: callable
+    actor: callable
+    alpha: callable
+
+
+def critic_variables(params, stats):
+    """flax variables of the critic: params plus batch statistics when it has any."""
+    return {"params": params, "batch_stats": stats} if stats else {"params": params}
+
+
+def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
+    """Loss functions for the algorithm described by `cfg`."""
+    target_entropy = cfg.target_entropy_per_action * action_size
+
+    def policy(actor_params, obs, key):
+        mean, log_std = actor.apply(actor_params, obs)
+        return sample_action(mean, log_std, key)
+
+    def critic_loss(critic_params, critic_stats, target_params, actor_params, log_alpha, batch: Transition, key):
+        """Soft Bellman residual; returns (loss, (new batch stats, metrics))."""
+        policy_key, dropout_key = jax.random.split(key)
+        next_action, next_log_prob = policy(actor_params, batch.next_obs, policy_key)
+        variables = critic_variables(critic_params, critic_stats)
+        rngs = {"dropout": dropout_key}
+        if cfg.target_network:
+            q, updated = critic.apply(variables, batch.obs, batch.action, train=True, rngs=rngs, mutable=["batch_stats"])
+            next_q = critic.apply(critic_variables(target_params, critic_stats), batch.next_obs, next_action,
+                                  train=False)
+        else:
+            # CrossQ: current and next state-actions go through the critic in one batch, so
+            # batch renormalisation sees both distributions and the bootstrap target is
+            # normalised with the same statistics as the prediction; this is what lets it
+            # drop the target network.
+            joint_obs = jnp.concatenate([batch.obs, batch.next_obs])
+            joint_action = jnp.concatenate([batch.action, next_action])
+            joint_q, updated = critic.apply(variables, joint_obs, joint_action, train=True, rngs=rngs,
+                                            mutable=["batch_stats"])
+            q, next_q = jnp.split(joint_q, 2, axis=1)
+        alpha = jnp.exp(log_alpha)
+        soft_next = jnp.min(next_q, axis=0) - alpha * next_log_prob
+        target = jax.lax.stop_gradient(batch.reward + cfg.gamma * batch.discount * soft_next)
+        loss = 0.5 * jnp.sum(jnp.mean((q - target) ** 2, axis=1))
+        metrics = {"critic_loss": loss, "q_mean": jnp.mean(q)}
+        return loss, (updated.get("batch_stats", {}), metrics)
+
+    def actor_loss(actor_params, critic_params, critic_stats, log_alpha, obs, key):
+        """alpha log pi - min Q, with the critic in evaluation mode; returns (loss, log_prob)."""
+        action, log_prob = policy(actor_params, obs, key)
+        q = critic.apply(critic_variables(critic_params, critic_stats), obs, action, train=False)
+        loss = jnp.mean(jnp.exp(log_alpha) * log_prob - jnp.min(q, axis=0))
+        return loss, log_prob
+
+    def alpha_loss(log_alpha, log_prob):
+        """Temperature objective J(alpha) of §2.3 on log alpha."""
+        return -jnp.mean(log_alpha * jax.lax.stop_gradient(log_prob + target_entropy))
+
+    return Losses(critic=critic_loss, actor=actor_loss, alpha=alpha_loss)

@@ -1,0 +1,40 @@
+"""Reward terms of thesis Tables 4.5 and 4.6 as small pure functions of raw quantities."""
+
+import jax.numpy as jnp
+
+
+def velocity_tracking(vx, target):
+    """Table 4.5 tracking term: plateau 1 on [v_t, 2 v_t], 0 at <= -v_t and >= 4 v_t.
+
+    The printed formula jumps at 2 v_t; we read it as linear ramps -v_t -> v_t and
+    2 v_t -> 4 v_t (DESIGN.md).
+    """
+    rise = (vx + target) / (2 * target)
+    fall = (4 * target - vx) / (2 * target)
+    return jnp.clip(jnp.minimum(rise, fall), 0.0, 1.0)
+
+
+def yaw_rate_squared(yaw_rate):
+    """Table 4.5 yaw penalty: omega_z^2."""
+    return yaw_rate**2
+
+
+def roll_pitch_squared(roll, pitch):
+    """Tables 4.5/4.6 trunk-rotation penalty: roll^2 + pitch^2."""
+    return roll**2 + pitch**2
+
+
+def torque_squared(torque):
+    """Table 4.5 energy penalty: ||tau||^2 over all motors."""
+    return jnp.sum(torque**2, axis=-1)
+
+
+def combine(terms: dict, weights: dict, scale: float):
+    """Weighted sum of terms times `scale`, clipped at 0 (Table 4.5 'non-negative reward').
+
+    Returns (reward, contributions) where contributions are weight * term, the figures a
+    user compares with the reward table.
+    """
+    contributions = {name: weights[name] * value for name, value in terms.items()}
+    total = scale * sum(contributions.values())
+    return jnp.maximum(total, 0.0), contributions

@@ -1,0 +1,174 @@
+"""`train(key)`: the whole learning loop as one pure program, vmapped over seeds.
+
+`make_train(config)` returns `init(key) -> Carry`, `chunk(carry, start_step) -> (carry,
+metrics)` and `train(key)`, the loop over all chunks. The host runs
+`jit(vmap(chunk, in_axes=(0, None)))` chunk by chunk to show progress and write results
+as it goes; the step counter is passed unbatched so the warm-up and policy-delay branches
+stay real branches under vmap.
+"""
+
+import dataclasses
+from typing import Callable, NamedTuple
+
+import jax
+import jax.numpy as jnp
+from flax import struct
+
+from mjx_badger import replay
+from mjx_badger.agents import ALGORITHMS, AgentConfig, AgentState, make_agent
+from mjx_badger.agents.losses import Transition
+from mjx_badger.env import EnvConfig, HB40Env
+
+
+@dataclasses.dataclass(frozen=True)
+class TrainConfig:
+    """One training run: what to train and for how long. Shapes follow from it."""
+
+    approach: str = "jt-oef"
+    algo: str = "crossq"
+    task: str = "forward"
+    total_steps: int = 50_000
+    """Environment steps per seed, warm-up included (thesis: 50k)."""
+    chunk_steps: int = 1_000
+    """Steps per compiled chunk: one progress tick, one results row, one evaluation."""
+    warmup_steps: int = 1_000
+    """Uniform random actions before learning starts (thesis §5.1: 1000)."""
+    eval_steps: int = 400
+    """Length of the deterministic evaluation run after every chunk."""
+    env: EnvConfig | None = None
+    """Environment settings; None means the defaults at the algorithm's control frequency."""
+    agent: AgentConfig | None = None
+    """Agent settings; None means ALGORITHMS[algo]()."""
+
+    @property
+    def agent_config(self) -> AgentConfig:
+        return ALGORITHMS[self.algo]() if self.agent is None else self.agent
+
+    @property
+    def env_config(self) -> EnvConfig:
+        return EnvConfig(control_hz=self.agent_config.control_hz) if self.env is None else self.env
+
+    @property
+    def num_chunks(self) -> int:
+        return -(-self.total_steps // self.chunk_steps)
+
+
+class Carry(struct.PyTreeNode):
+    """Everything one seed's training loop carries from step to step."""
+
+    env_state: object
+    agent_state: AgentState
+    buffer: replay.ReplayBuffer
+    key: jax.Array
+    eval_key: jax.Array
+    episode_return: jnp.ndarray
+
+
+class Trainer(NamedTuple):
+    config: TrainConfig
+    env: HB40Env
+    init: Callable
+    chunk: Callable
+    train: Callable
+
+
+def make_train(config: TrainConfig) -> Trainer:
+    """The pure training functions of `config`."""
+    cfg = config.agent_config
+    env = HB40Env(config.approach, config.task, config.env_config)
+    agent = make_agent(cfg, env.observation_size, env.action_size)
+    capacity = config.num_chunks * config.chunk_steps
+
+    def init(key) -> Carry:
+        key, env_key, agent_key, eval_key = jax.random.split(key, 4)
+        return Carry(
+            env_state=env.reset(env_key),
+            agent_state=agent.init(agent_key),
+            buffer=replay.init(capacity, env.observation_size, env.action_size),
+            key=key,
+            eval_key=eval_key,
+            episode_return=jnp.float32(0.0),
+        )
+
+    def learn(agent_state, buffer, key, step):
+        """`updates_per_step` gradient updates on fresh batches, as one scan."""
+
+        def one_update(agent_state, j):
+            batch_key, update_key = jax.random.split(jax.random.fold_in(key, j))
+            batch = replay.sample(buffer, batch_key, cfg.batch_size)
+            index = (step - config.warmup_steps) * cfg.updates_per_step + j
+            return agent.update(agent_state, batch, update_key, index)
+
+        agent_state, metrics = jax.lax.scan(one_update, agent_state, jnp.arange(cfg.updates_per_step))
+        metrics = {k: jnp.nanmean(v) for k, v in metrics.items()}
+        return agent_state, dict(metrics, updates=jnp.float32(cfg.updates_per_step))
+
+    def skip_learning(agent_state, buffer, key, step):
+        nan = jnp.float32(jnp.nan)
+        metrics = {k: nan for k in ("critic_loss", "q_mean", "actor_loss", "entropy", "alpha")}
+        return agent_state, dict(metrics, updates=jnp.float32(0.0))
+
+    def env_step(carry: Carry, step):
+        key, act_key, explore_key, learn_key = jax.random.split(carry.key, 4)
+        obs = carry.env_state.obs
+        policy_action = agent.act(carry.agent_state, obs, act_key)
+        random_action = jax.random.uniform(explore_key, (env.action_size,), minval=-1.0, maxval=1.0)
+        action = jnp.where(step < config.warmup_steps, random_action, policy_action)
+        env_state = env.step(carry.env_state, action)
+        info = env_state.info
+        transition = Transition(obs, action, env_state.reward, info["next_obs"],
+                                1.0 - info["terminated"].astype(jnp.float32))
+        buffer = replay.add(carry.buffer, transition)
+        agent_state, learn_metrics = jax.lax.cond(step >= config.warmup_steps, learn, skip_learning,
+                                                  carry.agent_state, buffer, learn_key, step)
+        episode_return = carry.episode_return + env_state.reward
+        done = env_state.done > 0
+        step_metrics = dict(
+            env_state.metrics,
+            reward=env_state.reward,
+            episode_end=done.astype(jnp.float32),
+            finished_return=jnp.where(done, episode_return, 0.0),
+            falls=info["falls"].astype(jnp.float32),
+            **learn_metrics,
+        )
+        carry = carry.replace(env_state=env_state, agent_state=agent_state, buffer=buffer, key=key,
+                              episode_return=jnp.where(done, 0.0, episode_return))
+        return carry, step_metrics
+
+    def evaluate(agent_state, key):
+        """Deterministic policy from a fresh episode for `eval_steps` steps."""
+
+        def body(state, _):
+            state = env.step(state, agent.act(agent_state, state.obs, None, deterministic=True))
+            return state, (state.reward, state.metrics["forward_velocity"], state.info["terminated"])
+
+        _, (reward, velocity, terminated) = jax.lax.scan(body, env.reset(key), None, length=config.eval_steps)
+        return {
+            "eval/return": jnp.sum(reward),
+            "eval/forward_velocity": jnp.mean(velocity),
+            "eval/falls": jnp.sum(terminated.astype(jnp.float32)),
+        }
+
+    def chunk(carry: Carry, start_step):
+        """`chunk_steps` environment steps with learning, then one evaluation; metrics are per seed."""
+        carry, steps = jax.lax.scan(env_step, carry, start_step + jnp.arange(config.chunk_steps))
+        episodes = jnp.sum(steps["episode_end"])
+        metrics = {f"train/{k}": jnp.mean(steps[k]) for k in ("forward_velocity", "lateral_velocity",
+                                                             "yaw_rate", "height", "reward")}
+        metrics.update({k: jnp.mean(v) for k, v in steps.items() if k.startswith("reward/")})
+        metrics.update({f"train/{k}": jnp.nanmean(steps[k]) for k in ("critic_loss", "q_mean", "actor_loss",
+                                                                     "entropy", "alpha")})
+        metrics["train/episode_return"] = jnp.where(episodes > 0, jnp.sum(steps["finished_return"]) / episodes,
+                                                    jnp.nan)
+        metrics["train/episodes"] = episodes
+        metrics["train/falls"] = steps["falls"][-1]
+        metrics["train/updates"] = jnp.sum(steps["updates"])
+        metrics.update(evaluate(carry.agent_state, carry.eval_key))
+        return carry, metrics
+
+    def train(key):
+        """The whole run for one seed: metrics stacked over chunks."""
+        starts = jnp.arange(config.num_chunks) * config.chunk_steps
+        return jax.lax.scan(chunk, init(key), starts)
+
+    return Trainer(config=config, env=env, init=init, chunk=chunk, train=train)
