@@ -1,0 +1,154 @@
+"""Command line: `python -m mjx_badger {train,reproduce,figures,list}`.
+
+Every argument is checked before anything is compiled; bad input gets one message naming
+the valid choices and exit code 2.
+"""
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+from mjx_badger.actions import APPROACHES
+from mjx_badger.agents import ALGORITHMS
+from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
+from mjx_badger.tasks import TASKS
+
+# Seed-steps per second of CrossQ with JT on the 2-core CPU this suite is developed on
+# (benchmarks/bench_spine.py); only used to print an estimate before a long run starts.
+CPU_SEED_STEPS_PER_S = 170.0
+
+
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
+    return value
+
+
+def writable_dir(parser: argparse.ArgumentParser, path: Path, what: str) -> Path:
+    """Create `path` if needed and prove it is writable, or exit 2 with a message."""
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        probe = path / f".write-test-{os.getpid()}"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as error:
+        parser.error(f"{what} {str(path)!r} is not writable: {error.strerror or error}")
+    return path
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m mjx_badger", description=__doc__.splitlines()[0])
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    train = commands.add_parser("train", help="train one configuration over many seeds in one vmapped program")
+    train.add_argument("--approach", choices=list(APPROACHES), default="jt-oef")
+    train.add_argument("--algo", choices=list(ALGORITHMS), default="crossq")
+    train.add_argument("--task", choices=list(TASKS), default="forward")
+    train.add_argument("--seeds", type=positive_int, default=3, help="number of seeds, run in parallel")
+    train.add_argument("--first-seed", type=int, default=0)
+    train.add_argument("--steps", type=positive_int, default=50_000, help="environment steps per seed")
+    train.add_argument("--chunk-steps", type=positive_int, default=1_000)
+    train.add_argument("--warmup-steps", type=positive_int, default=1_000)
+    train.add_argument("--eval-steps", type=positive_int, default=400)
+    train.add_argument("--no-action-delay", action="store_true", help="switch off the Table 5.1 action delay")
+    train.add_argument("--out", type=Path, default=Path("results"), help="folder for the results file")
+    train.add_argument("--quiet", action="store_true", help="no progress bar")
+
+    reproduce = commands.add_parser("reproduce", help="run the thesis experiments of a profile, then draw figures")
+    reproduce.add_argument("--profile", choices=list(PROFILES), default="quick")
+    reproduce.add_argument("--experiments", nargs="+", choices=list(EXPERIMENTS), default=list(EXPERIMENTS))
+    reproduce.add_argument("--results-dir", type=Path, default=Path("results"))
+    reproduce.add_argument("--figures-dir", type=Path, default=Path("figures"))
+    reproduce.add_argument("--force", action="store_true", help="rerun runs whose complete results exist")
+
+    figures = commands.add_parser("figures", help="draw figures from existing results")
+    figures.add_argument("--profile", choices=list(PROFILES), default="quick")
+    figures.add_argument("--results-dir", type=Path, default=Path("results"))
+    figures.add_argument("--figures-dir", type=Path, default=Path("figures"))
+
+    commands.add_parser("list", help="list approaches, algorithms, tasks, experiments and profiles")
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command == "list":
+        for title, names in (("approaches", APPROACHES), ("algorithms", ALGORITHMS), ("tasks", TASKS),
+                             ("experiments", EXPERIMENTS), ("profiles", PROFILES)):
+            print(f"{title}: {', '.join(names)}")
+        return 0
+    if args.command == "train":
+        if args.warmup_steps >= args.steps:
+            parser.error(f"--warmup-steps ({args.warmup_steps}) must be smaller than --steps ({args.steps})")
+        if args.chunk_steps > args.steps:
+            parser.error(f"--chunk-steps ({args.chunk_steps}) must not exceed --steps ({args.steps})")
+        writable_dir(parser, args.out, "output folder")
+        return train_command(args)
+    if args.command == "reproduce":
+        writable_dir(parser, args.results_dir, "results folder")
+        writable_dir(parser, args.figures_dir, "figures folder")
+        return reproduce_command(args)
+    writable_dir(parser, args.figures_dir, "figures folder")
+    return figures_command(args)
+
+
+def train_command(args) -> int:
+    from mjx_badger import runner
+    from mjx_badger.env import EnvConfig
+    from mjx_badger.train import TrainConfig
+
+    algo = ALGORITHMS[args.algo]()
+    config = TrainConfig(approach=args.approach, algo=args.algo, task=args.task, total_steps=args.steps,
+                         chunk_steps=args.chunk_steps, warmup_steps=args.warmup_steps, eval_steps=args.eval_steps,
+                         env=EnvConfig(control_hz=algo.control_hz, action_delay=not args.no_action_delay))
+    seeds = list(range(args.first_seed, args.first_seed + args.seeds))
+    out = args.out / f"{args.approach}_{args.algo}_{args.task}.json"
+    document = runner.run(config, seeds, out, progress=not args.quiet)
+    print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
+          f"compile {document['wall_clock']['compile_s']} s)")
+    return 0
+
+
+def reproduce_command(args) -> int:
+    from mjx_badger import plots, results, runner
+
+    profile = PROFILES[args.profile]
+    todo = []
+    for name in args.experiments:
+        experiment = EXPERIMENTS[name]
+        for run in experiment.runs:
+            path = args.results_dir / args.profile / name / result_name(run)
+            if path.exists() and not args.force and results.read(path).get("complete"):
+                print(f"skip {path}: complete results exist (--force reruns)")
+                continue
+            todo.append((experiment, run, path))
+    seed_steps = len(todo) * profile.seeds * profile.steps
+    print(f"profile {args.profile}: {len(todo)} runs x {profile.seeds} seeds x {profile.steps:,} steps; "
+          f"about {seed_steps / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1 min compile per run")
+    started = time.perf_counter()
+    for experiment, run, path in todo:
+        runner.run(experiment.train_config(run, profile), list(range(profile.seeds)), path,
+                   progress=sys.stderr.isatty() or os.environ.get("CI") is None)
+    for path in plots.draw(args.results_dir / args.profile, args.figures_dir, args.profile, args.experiments):
+        print(f"wrote {path}")
+    print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
+    return 0
+
+
+def figures_command(args) -> int:
+    from mjx_badger import plots
+
+    written = plots.draw(args.results_dir / args.profile, args.figures_dir, args.profile)
+    if not written:
+        print(f"no results under {args.results_dir / args.profile}", file=sys.stderr)
+        return 1
+    for path in written:
+        print(f"wrote {path}")
+    return 0

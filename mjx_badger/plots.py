@@ -1,0 +1,135 @@
+"""Figures and tables drawn from results files only (nothing here trains)."""
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from mjx_badger import results  # noqa: E402
+from mjx_badger.experiments import EXPERIMENTS, Experiment, result_name  # noqa: E402
+
+COLORS = {"jt-nf": "tab:red", "jt-lpf": "tab:blue", "jt-oef": "tab:green",
+          "cpg-d": "tab:purple", "cpg-vf": "tab:orange", "cpg-rt": "tab:brown"}
+REACHED_FRACTION = 0.9
+"""A run has reached the target once the seed-mean training velocity is >= 90 % of it."""
+
+
+def series(document: dict, name: str) -> np.ndarray:
+    """Metric `name` as an array (chunks, seeds), NaN where undefined."""
+    return np.array(document["metrics"][name], dtype=float)
+
+
+def steps_to_target(document: dict, target: float) -> int | None:
+    """First chunk-end step at which the seed-mean training velocity reaches 90 % of `target`."""
+    mean = np.nanmean(series(document, "train/forward_velocity"), axis=1)
+    hits = np.flatnonzero(mean >= REACHED_FRACTION * target)
+    return int(document["steps"][hits[0]]) if hits.size else None
+
+
+def summarize(document: dict, target: float) -> dict:
+    """Headline numbers of one run: time to target, final velocities, falls (mean and range)."""
+    velocity = series(document, "train/forward_velocity")
+    falls = series(document, "train/falls")[-1]
+    last = max(1, len(document["steps"]) // 10)
+    return {
+        "steps": document["steps"][-1],
+        "steps_to_target": steps_to_target(document, target),
+        "final_velocity": float(np.nanmean(velocity[-last:])),
+        "final_eval_velocity": float(np.nanmean(series(document, "eval/forward_velocity")[-last:])),
+        "falls_mean": float(falls.mean()),
+        "falls_min": float(falls.min()),
+        "falls_max": float(falls.max()),
+        "seeds": len(document["seeds"]),
+        "complete": document["complete"],
+    }
+
+
+def load_experiment(experiment: Experiment, folder: Path) -> dict:
+    """Results documents of the experiment's runs found in `folder`, keyed by approach."""
+    found = {}
+    for run in experiment.runs:
+        path = Path(folder) / result_name(run)
+        if path.exists():
+            found[run.approach] = results.read(path)
+    return found
+
+
+def _band(ax, x, values, color, label):
+    """Mean line with a min/max band over seeds."""
+    with np.errstate(all="ignore"):
+        ax.plot(x, np.nanmean(values, axis=1), color=color, label=label, lw=1.8)
+        ax.fill_between(x, np.nanmin(values, axis=1), np.nanmax(values, axis=1), color=color, alpha=0.18, lw=0)
+
+
+def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
+    """Fig 5.3-style: forward velocity (training, evaluation) and falls vs steps, thesis numbers noted."""
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.3), constrained_layout=True)
+    for approach, document in documents.items():
+        x = np.array(document["steps"]) / 1000
+        color = COLORS.get(approach, None)
+        _band(axes[0], x, series(document, "train/forward_velocity"), color, approach.upper())
+        _band(axes[1], x, series(document, "eval/forward_velocity"), color, approach.upper())
+        _band(axes[2], x, series(document, "train/falls"), color, approach.upper())
+    for ax in axes[:2]:
+        ax.axhline(experiment.target_velocity, color="k", ls="--", lw=1, label="target 0.5 m/s")
+        ax.set_ylabel("forward velocity [m/s]")
+    axes[0].set_title("training (mean over each 1k-step chunk)")
+    axes[1].set_title("deterministic evaluation after each chunk")
+    axes[2].set_title("falls during training (cumulative)")
+    axes[2].set_ylabel("falls")
+    for ax in axes:
+        ax.set_xlabel("environment steps [k]")
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc="upper left", fontsize=8)
+    thesis = "; ".join(
+        f"{a.upper()}: ~{n['steps_to_target'] // 1000}k steps, {n['falls']} falls"
+        for a, n in experiment.thesis_numbers.items())
+    seeds = {len(d["seeds"]) for d in documents.values()}
+    fig.suptitle(f"Forward locomotion at 0.5 m/s, CrossQ, {profile} profile "
+                 f"({'/'.join(map(str, sorted(seeds)))} seeds, mean and min/max band)\n"
+                 f"thesis {experiment.thesis_figure} (10 seeds, 50k steps): {thesis}", fontsize=10)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def forward_table(experiment: Experiment, documents: dict) -> str:
+    """Markdown table of our numbers beside the thesis's."""
+    lines = [
+        "| approach | seeds x steps | steps to 90 % of 0.5 m/s (ours / thesis) | final train velocity "
+        "| final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for approach, document in documents.items():
+        s = summarize(document, experiment.target_velocity)
+        thesis = experiment.thesis_numbers.get(approach, {})
+        reached = f"{s['steps_to_target']:,}" if s["steps_to_target"] else "not reached"
+        lines.append(
+            f"| {approach.upper()} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'} "
+            f"| {reached} / ~{thesis.get('steps_to_target', 0):,} "
+            f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s "
+            f"| {s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / ~{thesis.get('falls', '?')} |")
+    return "\n".join(lines) + "\n"
+
+
+FIGURES = {"forward": (forward_figure, forward_table)}
+
+
+def draw(results_dir: Path, figures_dir: Path, profile: str, names=None) -> list[Path]:
+    """Draw every figure whose results exist; returns the files written."""
+    written = []
+    for name in names or EXPERIMENTS:
+        experiment = EXPERIMENTS[name]
+        documents = load_experiment(experiment, Path(results_dir) / name)
+        if not documents:
+            continue
+        figure, table = FIGURES[name]
+        written.append(figure(experiment, documents, Path(figures_dir) / f"{name}_{profile}.png", profile))
+        table_path = Path(figures_dir) / f"{name}_{profile}.md"
+        table_path.write_text(table(experiment, documents))
+        written.append(table_path)
+    return written

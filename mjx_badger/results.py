@@ -1,0 +1,107 @@
+"""Results files: one JSON document per training run, rewritten after every chunk.
+
+Schema `mjx_badger.results/1`:
+    schema        "mjx_badger.results/1"
+    config        the TrainConfig, with its resolved env and agent settings
+    seeds         list of int, one per vmapped run
+    complete      false until the last chunk is written (an interrupted run stays readable)
+    steps         environment steps per seed at the end of each chunk, list (chunks,)
+    sim_minutes   the same in simulated minutes (steps / control frequency / 60)
+    metrics       name -> list (chunks,) of list (seeds,); null where undefined
+                  (e.g. train/episode_return in a chunk where no episode ended)
+    wall_clock    started / updated (ISO 8601), compile_s, run_s, seed_steps_per_s
+    versions      python and package versions
+    git_commit    commit of the code that ran, "+dirty" when it had local changes
+    hardware      platform, cpu count, jax devices, peak resident memory (MiB)
+"""
+
+import dataclasses
+import datetime
+import json
+import math
+import os
+import platform
+import resource
+import subprocess
+from importlib import metadata
+from pathlib import Path
+
+SCHEMA = "mjx_badger.results/1"
+PACKAGES = ("jax", "jaxlib", "mujoco", "mujoco-mjx", "brax", "flax", "optax", "numpy")
+
+
+def now() -> str:
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def versions() -> dict:
+    """Python and package versions."""
+    found = {"python": platform.python_version()}
+    for name in PACKAGES:
+        try:
+            found[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            found[name] = None
+    return found
+
+
+def git_commit() -> str:
+    """HEAD of the repository this package lives in, or 'unknown'."""
+    root = Path(__file__).resolve().parent.parent
+    try:
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True,
+                                check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=root,
+                               capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return commit + ("+dirty" if dirty else "")
+
+
+def peak_memory_mib() -> float:
+    """Peak resident memory of this process (Linux reports KiB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def hardware() -> dict:
+    import jax
+
+    return {
+        "platform": platform.platform(),
+        "processor": platform.processor() or platform.machine(),
+        "cpu_count": os.cpu_count(),
+        "jax_devices": [str(d) for d in jax.devices()],
+        "peak_memory_mib": round(peak_memory_mib(), 1),
+    }
+
+
+def config_dict(config) -> dict:
+    """A TrainConfig as plain JSON data, with its resolved env and agent settings."""
+    data = dataclasses.asdict(config)
+    data["env"] = dataclasses.asdict(config.env_config)
+    data["agent"] = dataclasses.asdict(config.agent_config)
+    return data
+
+
+def _clean(value):
+    """JSON has no NaN: undefined numbers become null."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, list):
+        return [_clean(v) for v in value]
+    return value
+
+
+def write(path: Path, document: dict) -> None:
+    """Write atomically, so an interrupted run never leaves a half-written file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(_clean(document), indent=1))
+    os.replace(tmp, path)
+
+
+def read(path: Path) -> dict:
+    document = json.loads(Path(path).read_text())
+    if document.get("schema") != SCHEMA:
+        raise ValueError(f"{path}: not a {SCHEMA} results file")
+    return document
