@@ -10,6 +10,7 @@ import sys
 import time
 from pathlib import Path
 
+from mjx_badger import enable_compilation_cache
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
@@ -79,6 +80,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    enable_compilation_cache()
     if args.command == "list":
         for title, names in (("approaches", APPROACHES), ("algorithms", ALGORITHMS), ("tasks", TASKS),
                              ("experiments", EXPERIMENTS), ("profiles", PROFILES)):

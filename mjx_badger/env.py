@@ -18,14 +18,20 @@ Observation for the joint-target approaches (thesis Table 4.1, 54 values, trunk 
 The scale factors only bring each block to order one; they are listed in OBS_LAYOUT.
 """
 
+import contextlib
 import dataclasses
+import io
 
 import jax
 import jax.numpy as jnp
 import mujoco
 import numpy as np
-from brax.envs.base import Env, State
-from mujoco import mjx
+
+# mjx (also imported by brax) prints a note on stdout when its optional GPU backend, warp,
+# is absent; this suite is CPU-first and keeps stdout for its own output.
+with contextlib.redirect_stdout(io.StringIO()):
+    from brax.envs.base import Env, State
+    from mujoco import mjx
 
 from mjx_badger import actions, robot, tasks
 

@@ -1,0 +1,33 @@
+# The two commands of the README do the whole set-up themselves.
+PYTHON ?= python3
+VENV ?= .venv
+PY := $(VENV)/bin/python
+PROFILE ?= quick
+
+.PHONY: install test test-slow reproduce-figures figures benchmark clean
+
+$(VENV)/.installed: pyproject.toml requirements.lock
+	$(PYTHON) -m venv $(VENV)
+	$(VENV)/bin/pip install --quiet -r requirements.lock
+	$(VENV)/bin/pip install --quiet --no-deps -e .
+	touch $@
+
+install: $(VENV)/.installed
+
+test: install
+	$(PY) -m pytest -q
+
+test-slow: install
+	$(PY) -m pytest -q -m slow
+
+reproduce-figures: install
+	$(PY) -m mjx_badger reproduce --profile $(PROFILE)
+
+figures: install
+	$(PY) -m mjx_badger figures --profile $(PROFILE)
+
+benchmark: install
+	$(PY) benchmarks/bench_spine.py
+
+clean:
+	rm -rf $(VENV) results .pytest_cache

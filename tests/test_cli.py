@@ -1,0 +1,56 @@
+"""Bad input gets one clear message and exit code 2 before anything compiles."""
+
+import subprocess
+import sys
+import time
+
+import pytest
+
+from mjx_badger.cli import main
+
+
+def _fails(capsys, argv):
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    return capsys.readouterr().err
+
+
+def test_unknown_approach_names_the_choices(capsys):
+    err = _fails(capsys, ["train", "--approach", "jt-xyz"])
+    assert "invalid choice: 'jt-xyz'" in err and "jt-nf" in err and "jt-lpf" in err and "jt-oef" in err
+
+
+def test_unknown_algorithm_and_task(capsys):
+    assert "crossq" in _fails(capsys, ["train", "--algo", "ppo"])
+    assert "forward" in _fails(capsys, ["train", "--task", "backflip"])
+
+
+@pytest.mark.parametrize("flag, value", [("--seeds", "0"), ("--steps", "-5"), ("--seeds", "two")])
+def test_non_positive_counts(capsys, flag, value):
+    assert "positive integer" in _fails(capsys, ["train", flag, value])
+
+
+def test_warmup_longer_than_run(capsys):
+    assert "--warmup-steps" in _fails(capsys, ["train", "--steps", "500", "--warmup-steps", "1000"])
+
+
+def test_unwritable_output(capsys, tmp_path):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    assert "not writable" in _fails(capsys, ["train", "--out", str(blocker / "sub")])
+
+
+def test_exit_code_2_from_the_shell_before_any_compile():
+    started = time.perf_counter()
+    done = subprocess.run([sys.executable, "-m", "mjx_badger", "train", "--approach", "nope"],
+                          capture_output=True, text=True)
+    assert done.returncode == 2
+    assert "choose from" in done.stderr and "jt-oef" in done.stderr
+    assert time.perf_counter() - started < 30  # imports only; a compile would take longer
+
+
+def test_list_names_everything(capsys):
+    assert main(["list"]) == 0
+    out = capsys.readouterr().out
+    assert "jt-oef" in out and "crossq" in out and "forward" in out and "quick" in out

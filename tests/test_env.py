@@ -1,0 +1,89 @@
+"""Environment: layout, vmap equivalence, no NaN, delay, falls and auto-reset."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mjx_badger import env as env_module
+from mjx_badger.env import EnvConfig
+
+ROLLOUT_STEPS = 200
+BATCH = 4
+
+
+def test_observation_layout_is_table_4_1(env, env_fns):
+    assert sum(size for _, size, _ in env_module.OBS_LAYOUT) == 54 == env.observation_size
+    assert env.action_size == 12
+    state = env_fns[0](jax.random.PRNGKey(0))
+    assert state.obs.shape == (54,)
+    np.testing.assert_allclose(state.obs[48:51], [0.5, 0.0, 0.0])  # target velocities
+    np.testing.assert_allclose(state.obs[51:54], [0.0, 0.0, -1.0], atol=1e-6)  # gravity, level trunk
+
+
+def test_episode_and_rates(env):
+    assert env.config.substeps == 5 and env.config.episode_steps == 800
+    slow = EnvConfig(control_hz=20.0)
+    assert slow.substeps == 10 and slow.episode_steps == 400
+
+
+def _random_rollout(env, key, steps):
+    """Random actions from reset; returns per-step (obs, reward, falls)."""
+    reset_key, action_key = jax.random.split(key)
+    actions = jax.random.uniform(action_key, (steps, env.action_size), minval=-1, maxval=1)
+
+    def body(state, action):
+        state = env.step(state, action)
+        return state, (state.obs, state.reward, state.info["falls"], state.info["next_obs"])
+
+    return jax.lax.scan(body, env.reset(reset_key), actions)
+
+
+def test_vmapped_random_rollout_has_no_nan_and_equals_single_env(env, env_fns):
+    keys = jax.random.split(jax.random.PRNGKey(3), BATCH)
+    _, (obs, reward, falls, _) = jax.jit(jax.vmap(lambda k: _random_rollout(env, k, ROLLOUT_STEPS)))(keys)
+    assert np.isfinite(np.asarray(obs)).all() and np.isfinite(np.asarray(reward)).all()
+    assert (np.asarray(reward) >= 0).all()
+
+    # The same seed stepped one env at a time with the shared jitted step.
+    reset, step = env_fns
+    reset_key, action_key = jax.random.split(keys[0])
+    actions = jax.random.uniform(action_key, (ROLLOUT_STEPS, env.action_size), minval=-1, maxval=1)
+    state = reset(reset_key)
+    for t in range(20):
+        state = step(state, actions[t])
+        np.testing.assert_allclose(state.obs, obs[0, t], rtol=1e-4, atol=1e-4,
+                                   err_msg=f"vmapped and single env differ at step {t}")
+
+
+def test_fall_terminates_counts_and_resets(env, env_fns):
+    reset, step = env_fns
+    state = reset(jax.random.PRNGKey(0))
+    # Tip the trunk over by 90 degrees about x: roll beyond the 0.8 rad threshold.
+    qpos = state.pipeline_state.qpos.at[3:7].set(jnp.array([np.cos(np.pi / 4), np.sin(np.pi / 4), 0.0, 0.0]))
+    state = state.replace(pipeline_state=state.pipeline_state.replace(qpos=qpos))
+    state = step(state, jnp.zeros(env.action_size))
+    assert bool(state.info["terminated"]) and float(state.done) == 1.0
+    assert int(state.info["falls"]) == 1
+    # The returned state is already a fresh episode; next_obs keeps the fallen robot's observation.
+    assert int(state.info["step"]) == 0
+    np.testing.assert_allclose(state.obs[51:54], [0.0, 0.0, -1.0], atol=1e-6)
+    assert abs(float(state.info["next_obs"][52])) > 0.5
+
+
+def test_time_limit_truncates_without_a_fall(env, env_fns):
+    reset, step = env_fns
+    state = reset(jax.random.PRNGKey(0))
+    state = state.replace(info=dict(state.info, step=jnp.int32(env.config.episode_steps - 1)))
+    state = step(state, jnp.zeros(env.action_size))
+    assert bool(state.info["truncated"]) and not bool(state.info["terminated"])
+    assert int(state.info["falls"]) == 0 and int(state.info["step"]) == 0
+
+
+def test_action_delay_is_quantised_and_capped():
+    delayed = env_module.HB40Env("jt-nf", "forward", EnvConfig())
+    steps = jax.vmap(delayed._delay_steps)(jax.random.split(jax.random.PRNGKey(0), 2000))
+    steps = np.asarray(steps)
+    assert steps.min() >= 0 and steps.max() == delayed.config.substeps  # capped at one control period
+    # |0.03 + N(0, 0.05^2)| / 0.005 s: median about 8 physics steps before the cap, so most are capped
+    assert 0.4 < (steps == 5).mean() < 0.8
+    assert env_module.HB40Env("jt-nf", "forward", EnvConfig(action_delay=False))._delay_steps(None) == 0
