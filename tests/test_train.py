@@ -83,11 +83,14 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
 
 
 def test_single_seed_runs_the_unbatched_program_with_the_same_numbers(tmp_path, train_fns):
-    """runner.seeds_chunk skips vmap for one seed (faster on CPU); the warm-up chunk is bit-identical."""
+    """runner.seeds_chunk skips vmap for one seed (faster on CPU); the warm-up chunk agrees to float rounding."""
     document = runner.run(TINY_TRAIN, [4], tmp_path / "one.json", progress=False)
     init, chunk, _ = train_fns
     _, metrics = chunk(init(seed_keys([4])), 0)
     for name, values in document["metrics"].items():
         expected = float(metrics[name][0])
         got = values[0][0]
-        assert (got is None and np.isnan(expected)) or got == round(expected, 5), name
+        if got is None:
+            assert np.isnan(expected), name
+        else:
+            np.testing.assert_allclose(got, expected, rtol=1e-4, atol=1e-4, err_msg=name)
