@@ -99,9 +99,11 @@ def make_train(config: TrainConfig) -> Trainer:
             index = (step - config.warmup_steps) * cfg.updates_per_step + j
             return agent.update(agent_state, batch, update_key, index)
 
+        before = agent_state.updates
         agent_state, metrics = jax.lax.scan(one_update, agent_state, jnp.arange(cfg.updates_per_step))
         metrics = {k: jnp.nanmean(v) for k, v in metrics.items()}
-        return agent_state, dict(metrics, updates=jnp.float32(cfg.updates_per_step))
+        # Counted from the agent's own update counter, not assumed from the config.
+        return agent_state, dict(metrics, updates=(agent_state.updates - before).astype(jnp.float32))
 
     def skip_learning(agent_state, buffer, key, step):
         nan = jnp.float32(jnp.nan)

@@ -35,8 +35,31 @@ class AgentConfig:
     control_hz: float = 40.0
     """Control frequency the thesis ran this algorithm at (Table 4.3 'inference frequency')."""
 
+    def __post_init__(self):
+        if self.batch_renorm and self.target_network:
+            raise ValueError(f"{self.name}: batch renormalisation is built for the joint pass without a target network")
+        if self.batch_renorm and self.dropout_rate > 0:
+            raise ValueError(f"{self.name}: dropout and batch renormalisation in one critic are not supported")
+        if self.updates_per_step < 1 or self.policy_delay < 1:
+            raise ValueError(f"{self.name}: updates_per_step and policy_delay must be >= 1")
+
     def replace(self, **changes) -> "AgentConfig":
         return dataclasses.replace(self, **changes)
+
+
+def sac() -> AgentConfig:
+    """SAC (Haarnoja et al.) as Table 4.3 ran it: target critics with Polyak averaging, 20 Hz."""
+    return AgentConfig(name="sac", learning_rate=0.003, batch_size=256, control_hz=20.0)
+
+
+def sac_utd20() -> AgentConfig:
+    """SAC with 20 gradient updates per environment step (Table 4.3 'SAC UTD 20')."""
+    return sac().replace(name="sac-utd20", updates_per_step=20)
+
+
+def droq() -> AgentConfig:
+    """DroQ (Hiraoka et al.): SAC's critic with dropout and layer norm, 20 updates per step."""
+    return sac().replace(name="droq", learning_rate=0.001, updates_per_step=20, dropout_rate=0.01, layer_norm=True)
 
 
 def crossq() -> AgentConfig:
@@ -53,4 +76,4 @@ def crossq() -> AgentConfig:
     )
 
 
-ALGORITHMS = {"crossq": crossq}
+ALGORITHMS = {"sac": sac, "sac-utd20": sac_utd20, "droq": droq, "crossq": crossq}

@@ -46,13 +46,15 @@ def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
     def critic_loss(critic_params, critic_stats, target_params, actor_params, log_alpha, batch: Transition, key):
         """Soft Bellman residual; returns (loss, (new batch stats, metrics))."""
         policy_key, dropout_key = jax.random.split(key)
+        target_key = jax.random.fold_in(dropout_key, 1)
         next_action, next_log_prob = policy(actor_params, batch.next_obs, policy_key)
         variables = critic_variables(critic_params, critic_stats)
         rngs = {"dropout": dropout_key}
         if cfg.target_network:
             q, updated = critic.apply(variables, batch.obs, batch.action, train=True, rngs=rngs, mutable=["batch_stats"])
-            next_q = critic.apply(critic_variables(target_params, critic_stats), batch.next_obs, next_action,
-                                  train=False)
+            # DroQ keeps dropout on in the target critic too (its regulariser acts on the target).
+            next_q = critic.apply({"params": target_params}, batch.next_obs, next_action, train=cfg.dropout_rate > 0,
+                                  rngs={"dropout": target_key})
         else:
             # CrossQ: current and next state-actions go through the critic in one batch, so
             # batch renormalisation sees both distributions and the bootstrap target is
@@ -71,9 +73,14 @@ def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
         return loss, (updated.get("batch_stats", {}), metrics)
 
     def actor_loss(actor_params, critic_params, critic_stats, log_alpha, obs, key):
-        """alpha log pi - min Q, with the critic in evaluation mode; returns (loss, log_prob)."""
+        """alpha log pi - min Q; returns (loss, log_prob).
+
+        The critic runs in evaluation mode (running batch statistics) except that a dropout
+        critic keeps its dropout, as DroQ trains its actor against the regularised Q.
+        """
         action, log_prob = policy(actor_params, obs, key)
-        q = critic.apply(critic_variables(critic_params, critic_stats), obs, action, train=False)
+        q = critic.apply(critic_variables(critic_params, critic_stats), obs, action, train=cfg.dropout_rate > 0,
+                         rngs={"dropout": jax.random.fold_in(key, 1)})
         loss = jnp.mean(jnp.exp(log_alpha) * log_prob - jnp.min(q, axis=0))
         return loss, log_prob
 
