@@ -28,6 +28,7 @@ figures: install
 
 benchmark: install
 	$(PY) benchmarks/bench_spine.py
+	$(PY) benchmarks/bench_algorithms.py
 
 clean:
 	rm -rf $(VENV) results .pytest_cache

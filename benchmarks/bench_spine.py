@@ -66,12 +66,12 @@ def mjx_env_steps_per_s(batch, steps=200):
     return batch * steps / timed(fn, jax.random.split(jax.random.PRNGKey(0), batch))
 
 
-def crossq_updates_per_s(seeds, updates=200):
-    """CrossQ gradient updates per second per seed and in total, on a filled replay buffer.
+def updates_per_s(seeds, algo="crossq", updates=200):
+    """Gradient updates per second per seed and in total, on a filled replay buffer.
 
     One seed runs the unbatched program, as the runner does (see runner.seeds_chunk).
     """
-    cfg = ALGORITHMS["crossq"]()
+    cfg = ALGORITHMS[algo]()
     agent = make_agent(cfg, 54, 12)
     buffer = replay.init(10_000, 54, 12)
     buffer = buffer.replace(
@@ -94,9 +94,9 @@ def crossq_updates_per_s(seeds, updates=200):
     return updates / seconds, seeds * updates / seconds
 
 
-def train_chunk(seeds, chunk_steps=500):
-    """Compile time and seed-steps/s of a full training chunk (env + CrossQ update per step)."""
-    config = TrainConfig(approach="jt-oef", total_steps=20_000, chunk_steps=chunk_steps, warmup_steps=0)
+def train_chunk(seeds, chunk_steps=500, algo="crossq"):
+    """Compile time and seed-steps/s of a full training chunk (env step + updates per step)."""
+    config = TrainConfig(approach="jt-oef", algo=algo, total_steps=20_000, chunk_steps=chunk_steps, warmup_steps=0)
     trainer = make_train(config)
     carry = jax.jit(jax.vmap(trainer.init))(jax.random.split(jax.random.PRNGKey(0), seeds))
     t0 = time.perf_counter()
@@ -136,7 +136,7 @@ def main():
     for batch in (1, 10, 64):
         figures[f"mjx_env_steps_per_s_batch_{batch}"] = mjx_env_steps_per_s(batch)
     for seeds in (1, 10):
-        per_seed, total = crossq_updates_per_s(seeds)
+        per_seed, total = updates_per_s(seeds)
         figures[f"crossq_updates_per_s_per_seed_{seeds}_seeds"] = per_seed
         figures[f"crossq_updates_per_s_total_{seeds}_seeds"] = total
     for seeds in (1, 10):

@@ -16,8 +16,9 @@ from mjx_badger.agents import ALGORITHMS
 from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
 from mjx_badger.tasks import TASKS
 
-# Seed-steps per second of CrossQ with JT on the 2-core CPU this suite is developed on
-# (benchmarks/bench_spine.py); only used to print an estimate before a long run starts.
+# Seed-steps (one env step and one update each) per second of CrossQ with JT on the 2-core
+# CPU this suite is developed on (benchmarks/bench_spine.py); only used to print an
+# estimate before a long run starts, counting updates as the cost.
 CPU_SEED_STEPS_PER_S = 174.0
 
 
@@ -131,12 +132,13 @@ def reproduce_command(args) -> int:
                 print(f"skip {path}: complete results exist (--force reruns)")
                 continue
             todo.append((experiment, run, path))
-    seed_steps = len(todo) * profile.seeds * profile.steps
-    print(f"profile {args.profile}: {len(todo)} runs x {profile.seeds} seeds x {profile.steps:,} steps; "
-          f"about {seed_steps / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1 min compile per run")
+    updates = sum(experiment.steps(run, args.profile) * ALGORITHMS[run.algo]().updates_per_step
+                  for experiment, run, _ in todo) * profile.seeds
+    print(f"profile {args.profile}: {len(todo)} runs x {profile.seeds} seeds, {updates:,} gradient updates in all; "
+          f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1 min compile per run")
     started = time.perf_counter()
     for experiment, run, path in todo:
-        runner.run(experiment.train_config(run, profile), list(range(profile.seeds)), path,
+        runner.run(experiment.train_config(run, args.profile), list(range(profile.seeds)), path,
                    progress=sys.stderr.isatty() or os.environ.get("CI") is None)
     for path in plots.draw(args.results_dir / args.profile, args.figures_dir, args.profile, args.experiments):
         print(f"wrote {path}")

@@ -12,7 +12,8 @@ from mjx_badger import results  # noqa: E402
 from mjx_badger.experiments import EXPERIMENTS, Experiment, result_name  # noqa: E402
 
 COLORS = {"jt-nf": "tab:red", "jt-lpf": "tab:blue", "jt-oef": "tab:green",
-          "cpg-d": "tab:purple", "cpg-vf": "tab:orange", "cpg-rt": "tab:brown"}
+          "cpg-d": "tab:purple", "cpg-vf": "tab:orange", "cpg-rt": "tab:brown",
+          "sac": "tab:gray", "sac-utd20": "tab:olive", "droq": "tab:cyan", "crossq": "tab:red"}
 REACHED_FRACTION = 0.9
 """A run has reached the target once the seed-mean training velocity is >= 90 % of it."""
 
@@ -22,11 +23,11 @@ def series(document: dict, name: str) -> np.ndarray:
     return np.array(document["metrics"][name], dtype=float)
 
 
-def steps_to_target(document: dict, target: float) -> int | None:
-    """First chunk-end step at which the seed-mean training velocity reaches 90 % of `target`."""
+def first_reached(document: dict, target: float) -> int | None:
+    """Index of the first chunk whose seed-mean training velocity reaches 90 % of `target`."""
     mean = np.nanmean(series(document, "train/forward_velocity"), axis=1)
     hits = np.flatnonzero(mean >= REACHED_FRACTION * target)
-    return int(document["steps"][hits[0]]) if hits.size else None
+    return int(hits[0]) if hits.size else None
 
 
 def summarize(document: dict, target: float) -> dict:
@@ -38,9 +39,12 @@ def summarize(document: dict, target: float) -> dict:
     warmup_chunks = [i for i, step in enumerate(document["steps"]) if step <= warmup]
     falls_in_warmup = falls_curve[warmup_chunks[-1]] if warmup_chunks else np.zeros_like(falls)
     last = max(1, len(document["steps"]) // 10)
+    reached = first_reached(document, target)
     return {
         "steps": document["steps"][-1],
-        "steps_to_target": steps_to_target(document, target),
+        "minutes": document["sim_minutes"][-1],
+        "steps_to_target": None if reached is None else document["steps"][reached],
+        "minutes_to_target": None if reached is None else document["sim_minutes"][reached],
         "final_velocity": float(np.nanmean(velocity[-last:])),
         "final_eval_velocity": float(np.nanmean(series(document, "eval/forward_velocity")[-last:])),
         "falls_mean": float(falls.mean()),
@@ -54,12 +58,12 @@ def summarize(document: dict, target: float) -> dict:
 
 
 def load_experiment(experiment: Experiment, folder: Path) -> dict:
-    """Results documents of the experiment's runs found in `folder`, keyed by approach."""
+    """Results documents of the experiment's runs found in `folder`, keyed by the compared name."""
     found = {}
     for run in experiment.runs:
         path = Path(folder) / result_name(run)
         if path.exists():
-            found[run.approach] = results.read(path)
+            found[experiment.label(run)] = results.read(path)
     return found
 
 
@@ -70,37 +74,56 @@ def _band(ax, x, values, color, label):
         ax.fill_between(x, np.nanmin(values, axis=1), np.nanmax(values, axis=1), color=color, alpha=0.18, lw=0)
 
 
-def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
-    """Fig 5.3-style: forward velocity (training, evaluation) and falls vs steps, thesis numbers noted."""
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.3), constrained_layout=True)
-    for approach, document in documents.items():
-        x = np.array(document["steps"]) / 1000
-        color = COLORS.get(approach, None)
-        _band(axes[0], x, series(document, "train/forward_velocity"), color, approach.upper())
-        _band(axes[1], x, series(document, "eval/forward_velocity"), color, approach.upper())
-        _band(axes[2], x, series(document, "train/falls"), color, approach.upper())
-    for ax in axes[:2]:
-        ax.axhline(experiment.target_velocity, color="k", ls="--", lw=1, label="target 0.5 m/s")
-        ax.set_ylabel("forward velocity [m/s]")
-    axes[0].set_title("training (mean over each 1k-step chunk)")
-    axes[1].set_title("deterministic evaluation after each chunk")
-    axes[2].set_title("falls during training (cumulative)")
-    axes[2].set_ylabel("falls")
-    for ax in axes:
-        ax.set_xlabel("environment steps [k]")
+def learning_curves(experiment: Experiment, documents: dict, out: Path, profile: str, x_axis: str,
+                    panels: tuple, thesis_note: str) -> Path:
+    """Learning curves, mean with a min/max band over seeds, one panel per (metric, title, y label)."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4.3), constrained_layout=True)
+    for label, document in documents.items():
+        x = np.array(document["steps"]) / 1000 if x_axis == "steps" else np.array(document["sim_minutes"])
+        for ax, (metric, _, _) in zip(axes, panels):
+            _band(ax, x, series(document, metric), COLORS.get(label), label.upper())
+    for ax, (metric, title, ylabel) in zip(axes, panels):
+        if metric.endswith("forward_velocity"):
+            ax.axhline(experiment.target_velocity, color="k", ls="--", lw=1, label=f"target {experiment.target_velocity} m/s")
+        ax.set_title(title)
+        ax.set_ylabel(ylabel)
+        ax.set_xlabel("environment steps [k]" if x_axis == "steps" else "simulated minutes (steps / control Hz)")
         ax.grid(alpha=0.3)
     axes[0].legend(loc="upper left", fontsize=8)
-    thesis = "; ".join(
-        f"{a.upper()}: ~{n['steps_to_target'] // 1000}k steps, {n['falls']} falls"
-        for a, n in experiment.thesis_numbers.items())
-    seeds = {len(d["seeds"]) for d in documents.values()}
-    fig.suptitle(f"Forward locomotion at 0.5 m/s, CrossQ, {profile} profile "
-                 f"({'/'.join(map(str, sorted(seeds)))} seeds, mean and min/max band)\n"
-                 f"thesis {experiment.thesis_figure} (10 seeds, 50k steps): {thesis}", fontsize=10)
+    seeds = sorted({len(d["seeds"]) for d in documents.values()})
+    fig.suptitle(f"{thesis_note[0]}, {profile} profile ({'/'.join(map(str, seeds))} seeds, mean and min/max band)\n"
+                 f"thesis {experiment.thesis_figure} (10 seeds, 50k steps): {thesis_note[1]}", fontsize=10)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return out
+
+
+def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
+    """Fig 5.3-style: forward velocity (training, evaluation) and falls vs steps."""
+    thesis = "; ".join(f"{a.upper()}: ~{n['steps_to_target'] // 1000}k steps, {n['falls']} falls"
+                       for a, n in experiment.thesis_numbers.items())
+    panels = (("train/forward_velocity", "training (mean over each 1k-step chunk)", "forward velocity [m/s]"),
+              ("eval/forward_velocity", "deterministic evaluation after each chunk", "forward velocity [m/s]"),
+              ("train/falls", "falls during training (cumulative)", "falls"))
+    return learning_curves(experiment, documents, out, profile, "steps", panels,
+                           ("Forward locomotion at 0.5 m/s, CrossQ", thesis))
+
+
+def algorithms_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
+    """Fig 5.2-style: velocity, episode return and falls vs simulated minutes for the four algorithms."""
+    thesis = ("CrossQ reaches 0.5 m/s after ~2 min, DroQ ~7; falls CrossQ ~14, DroQ ~32; "
+              "SAC / SAC-UTD20 reach the target at lower velocities")
+    panels = (("train/forward_velocity", "forward velocity (training)", "forward velocity [m/s]"),
+              ("train/episode_return", "episode return (800 steps at 40 Hz, 400 at 20 Hz)", "return"),
+              ("train/falls", "falls during training (cumulative)", "falls"))
+    return learning_curves(experiment, documents, out, profile, "minutes", panels,
+                           ("Algorithm comparison, JT-NF forward at 0.5 m/s", thesis))
+
+
+def _falls_cell(s: dict, thesis: dict) -> str:
+    return (f"{s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / ~{thesis.get('falls', '-')} "
+            f"| {s['falls_after_warmup_mean']:.1f} |")
 
 
 def forward_table(experiment: Experiment, documents: dict) -> str:
@@ -110,20 +133,37 @@ def forward_table(experiment: Experiment, documents: dict) -> str:
         "| final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) | of which after warm-up |",
         "|---|---|---|---|---|---|---|",
     ]
-    for approach, document in documents.items():
+    for label, document in documents.items():
         s = summarize(document, experiment.target_velocity)
-        thesis = experiment.thesis_numbers.get(approach, {})
+        thesis = experiment.thesis_numbers.get(label, {})
         reached = f"{s['steps_to_target']:,}" if s["steps_to_target"] else "not reached"
         lines.append(
-            f"| {approach.upper()} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'} "
+            f"| {label.upper()} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'} "
             f"| {reached} / ~{thesis.get('steps_to_target', 0):,} "
-            f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s "
-            f"| {s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / ~{thesis.get('falls', '?')} "
-            f"| {s['falls_after_warmup_mean']:.1f} |")
+            f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s | " + _falls_cell(s, thesis))
     return "\n".join(lines) + "\n"
 
 
-FIGURES = {"forward": (forward_figure, forward_table)}
+def algorithms_table(experiment: Experiment, documents: dict) -> str:
+    """Markdown table of the algorithm comparison beside the thesis's numbers."""
+    lines = [
+        "| algorithm | seeds x steps (simulated min) | minutes to 90 % of 0.5 m/s (ours / thesis) "
+        "| final train velocity | final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) "
+        "| of which after warm-up |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for label, document in documents.items():
+        s = summarize(document, experiment.target_velocity)
+        thesis = experiment.thesis_numbers.get(label, {})
+        reached = f"{s['minutes_to_target']:.1f}" if s["minutes_to_target"] is not None else "not reached"
+        lines.append(
+            f"| {label.upper()} | {s['seeds']} x {s['steps']:,} ({s['minutes']:.1f}){'' if s['complete'] else ' (incomplete)'} "
+            f"| {reached} / {('~' + str(thesis['minutes_to_target'])) if 'minutes_to_target' in thesis else 'reached'} "
+            f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s | " + _falls_cell(s, thesis))
+    return "\n".join(lines) + "\n"
+
+
+FIGURES = {"forward": (forward_figure, forward_table), "algo-comparison": (algorithms_figure, algorithms_table)}
 
 
 def draw(results_dir: Path, figures_dir: Path, profile: str, names=None) -> list[Path]:

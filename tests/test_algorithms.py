@@ -135,6 +135,18 @@ def test_dropout_is_active_only_in_training():
     assert not np.allclose(train_a, eval_a)
 
 
+def test_hashed_dropout_mask_keeps_the_right_fraction_and_varies_with_the_key():
+    from mjx_badger.agents.networks import hashed_keep_mask
+
+    a = np.asarray(hashed_keep_mask(jax.random.PRNGKey(0), (256, 256), 0.1))
+    b = np.asarray(hashed_keep_mask(jax.random.PRNGKey(1), (256, 256), 0.1))
+    assert abs(a.mean() - 0.9) < 0.005 and abs(b.mean() - 0.9) < 0.005
+    # Independent masks agree on about 0.9^2 + 0.1^2 = 82 % of the entries.
+    assert abs((a == b).mean() - 0.82) < 0.01
+    # No structure along rows or columns.
+    assert np.abs(a.mean(axis=0) - 0.9).max() < 0.1 and np.abs(a.mean(axis=1) - 0.9).max() < 0.1
+
+
 TINY = dict(approach="jt-nf", task="forward", total_steps=150, chunk_steps=50, warmup_steps=100, eval_steps=20)
 
 

@@ -1,5 +1,6 @@
 """Actor and critic networks shared by every algorithm of the SAC family."""
 
+import math
 from typing import Sequence
 
 import flax.linen as nn
@@ -52,6 +53,34 @@ class BatchRenorm(nn.Module):
         return y * scale + bias
 
 
+def hashed_keep_mask(key, shape, rate: float):
+    """Bernoulli(1 - rate) mask from one random word and a counter hash (murmur3 finaliser).
+
+    A threefry draw per element costs about 11 ns on a CPU, which made it most of a DroQ
+    update; hashing (index xor seed) is ten times cheaper and random enough for dropout.
+    """
+    seed = jax.random.bits(key, dtype=jnp.uint32)
+    h = jax.lax.iota(jnp.uint32, math.prod(shape)).reshape(shape) ^ seed
+    h = h * jnp.uint32(0x9E3779B1)
+    h = (h ^ (h >> 16)) * jnp.uint32(0x85EBCA6B)
+    h = (h ^ (h >> 13)) * jnp.uint32(0xC2B2AE35)
+    h = h ^ (h >> 16)
+    return h >= jnp.uint32(int(rate * 2**32))
+
+
+class Dropout(nn.Module):
+    """Inverted dropout with a hashed mask; the identity when not training."""
+
+    rate: float
+
+    @nn.compact
+    def __call__(self, x, train: bool):
+        if not train or self.rate == 0:
+            return x
+        keep = hashed_keep_mask(self.make_rng("dropout"), x.shape, self.rate)
+        return jnp.where(keep, x / (1.0 - self.rate), 0.0)
+
+
 class Actor(nn.Module):
     """Tanh-squashed Gaussian policy: obs (B, O) -> mean, log_std (B, A)."""
 
@@ -89,7 +118,7 @@ class QNetwork(nn.Module):
         for width in self.hidden:
             x = nn.Dense(width)(x)
             if self.dropout_rate > 0:
-                x = nn.Dropout(self.dropout_rate, deterministic=not train)(x)
+                x = Dropout(self.dropout_rate)(x, train)
             if self.layer_norm:
                 x = nn.LayerNorm()(x)
             x = nn.relu(x)
