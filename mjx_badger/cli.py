@@ -138,12 +138,31 @@ def reproduce_command(args) -> int:
           f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1 min compile per run")
     started = time.perf_counter()
     for experiment, run, path in todo:
-        runner.run(experiment.train_config(run, args.profile), list(range(profile.seeds)), path,
-                   progress=sys.stderr.isatty() or os.environ.get("CI") is None)
+        config = experiment.train_config(run, args.profile)
+        seeds = list(range(profile.seeds))
+        twin = _same_run(args.results_dir / args.profile, config, seeds)
+        if twin is not None and not args.force:
+            # Experiments share runs (CrossQ JT-NF forward is in two); a run is deterministic per seed.
+            print(f"reuse {twin} for {path}: the same configuration and seeds")
+            results.write(path, results.read(twin))
+            continue
+        runner.run(config, seeds, path, progress=sys.stderr.isatty() or os.environ.get("CI") is None)
     for path in plots.draw(args.results_dir / args.profile, args.figures_dir, args.profile, args.experiments):
         print(f"wrote {path}")
     print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
     return 0
+
+
+def _same_run(folder: Path, config, seeds):
+    """A complete results file under `folder` for exactly this configuration and these seeds, if any."""
+    from mjx_badger import results
+
+    wanted = results.config_dict(config)
+    for path in sorted(folder.glob(f"*/{config.approach}_{config.algo}_{config.task}.json")):
+        document = results.read(path)
+        if document.get("complete") and document["config"] == wanted and document["seeds"] == seeds:
+            return path
+    return None
 
 
 def figures_command(args) -> int:
