@@ -5,6 +5,7 @@ the valid choices and exit code 2.
 """
 
 import argparse
+import json
 import os
 import sys
 import time
@@ -157,7 +158,7 @@ def _same_run(folder: Path, config, seeds):
     """A complete results file under `folder` for exactly this configuration and these seeds, if any."""
     from mjx_badger import results
 
-    wanted = results.config_dict(config)
+    wanted = json.loads(json.dumps(results.config_dict(config)))  # as stored: tuples become lists
     for path in sorted(folder.glob(f"*/{config.approach}_{config.algo}_{config.task}.json")):
         document = results.read(path)
         if document.get("complete") and document["config"] == wanted and document["seeds"] == seeds:

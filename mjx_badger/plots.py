@@ -14,6 +14,8 @@ from mjx_badger.experiments import EXPERIMENTS, Experiment, result_name  # noqa:
 COLORS = {"jt-nf": "tab:red", "jt-lpf": "tab:blue", "jt-oef": "tab:green",
           "cpg-d": "tab:purple", "cpg-vf": "tab:orange", "cpg-rt": "tab:brown",
           "sac": "tab:gray", "sac-utd20": "tab:olive", "droq": "tab:cyan", "crossq": "tab:red"}
+NAMES = {"jt-nf": "JT-NF", "jt-lpf": "JT-LPF", "jt-oef": "JT-OEF", "cpg-d": "CPG-D", "cpg-vf": "CPG-VF",
+         "cpg-rt": "CPG-RT", "sac": "SAC", "sac-utd20": "SAC-UTD20", "droq": "DroQ", "crossq": "CrossQ"}
 REACHED_FRACTION = 0.9
 """A run has reached the target once the seed-mean training velocity is >= 90 % of it."""
 
@@ -81,7 +83,7 @@ def learning_curves(experiment: Experiment, documents: dict, out: Path, profile:
     for label, document in documents.items():
         x = np.array(document["steps"]) / 1000 if x_axis == "steps" else np.array(document["sim_minutes"])
         for ax, (metric, _, _) in zip(axes, panels):
-            _band(ax, x, series(document, metric), COLORS.get(label), label.upper())
+            _band(ax, x, series(document, metric), COLORS.get(label), NAMES.get(label, label))
     for ax, (metric, title, ylabel) in zip(axes, panels):
         if metric.endswith("forward_velocity"):
             ax.axhline(experiment.target_velocity, color="k", ls="--", lw=1, label=f"target {experiment.target_velocity} m/s")
@@ -101,7 +103,7 @@ def learning_curves(experiment: Experiment, documents: dict, out: Path, profile:
 
 def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
     """Fig 5.3-style: forward velocity (training, evaluation) and falls vs steps."""
-    thesis = "; ".join(f"{a.upper()}: ~{n['steps_to_target'] // 1000}k steps, {n['falls']} falls"
+    thesis = "; ".join(f"{NAMES[a]}: ~{n['steps_to_target'] // 1000}k steps, {n['falls']} falls"
                        for a, n in experiment.thesis_numbers.items())
     panels = (("train/forward_velocity", "training (mean over each 1k-step chunk)", "forward velocity [m/s]"),
               ("eval/forward_velocity", "deterministic evaluation after each chunk", "forward velocity [m/s]"),
@@ -122,7 +124,8 @@ def algorithms_figure(experiment: Experiment, documents: dict, out: Path, profil
 
 
 def _falls_cell(s: dict, thesis: dict) -> str:
-    return (f"{s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / ~{thesis.get('falls', '-')} "
+    thesis_falls = f"~{thesis['falls']}" if "falls" in thesis else "not given"
+    return (f"{s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {thesis_falls} "
             f"| {s['falls_after_warmup_mean']:.1f} |")
 
 
@@ -138,7 +141,7 @@ def forward_table(experiment: Experiment, documents: dict) -> str:
         thesis = experiment.thesis_numbers.get(label, {})
         reached = f"{s['steps_to_target']:,}" if s["steps_to_target"] else "not reached"
         lines.append(
-            f"| {label.upper()} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'} "
+            f"| {NAMES.get(label, label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'} "
             f"| {reached} / ~{thesis.get('steps_to_target', 0):,} "
             f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s | " + _falls_cell(s, thesis))
     return "\n".join(lines) + "\n"
@@ -157,7 +160,7 @@ def algorithms_table(experiment: Experiment, documents: dict) -> str:
         thesis = experiment.thesis_numbers.get(label, {})
         reached = f"{s['minutes_to_target']:.1f}" if s["minutes_to_target"] is not None else "not reached"
         lines.append(
-            f"| {label.upper()} | {s['seeds']} x {s['steps']:,} ({s['minutes']:.1f}){'' if s['complete'] else ' (incomplete)'} "
+            f"| {NAMES.get(label, label)} | {s['seeds']} x {s['steps']:,} ({s['minutes']:.1f}){'' if s['complete'] else ' (incomplete)'} "
             f"| {reached} / {('~' + str(thesis['minutes_to_target'])) if 'minutes_to_target' in thesis else 'reached'} "
             f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s | " + _falls_cell(s, thesis))
     return "\n".join(lines) + "\n"

@@ -54,3 +54,18 @@ def test_list_names_everything(capsys):
     assert main(["list"]) == 0
     out = capsys.readouterr().out
     assert "jt-oef" in out and "crossq" in out and "forward" in out and "quick" in out
+
+
+def test_a_run_shared_by_two_experiments_is_found_and_reused(tmp_path):
+    from mjx_badger import results
+    from mjx_badger.cli import _same_run
+    from mjx_badger.experiments import EXPERIMENTS
+
+    config = EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "smoke")
+    path = tmp_path / "algo-comparison" / "jt-nf_crossq_forward.json"
+    results.write(path, {"schema": results.SCHEMA, "config": results.config_dict(config), "seeds": [0, 1],
+                         "complete": True})
+    assert _same_run(tmp_path, config, [0, 1]) == path
+    assert _same_run(tmp_path, config, [0, 1, 2]) is None
+    assert _same_run(tmp_path, EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "quick"),
+                     [0, 1]) is None
