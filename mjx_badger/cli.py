@@ -129,8 +129,9 @@ def reproduce_command(args) -> int:
         experiment = EXPERIMENTS[name]
         for run in experiment.runs:
             path = args.results_dir / args.profile / name / result_name(run)
-            if path.exists() and not args.force and results.read(path).get("complete"):
-                print(f"skip {path}: complete results exist (--force reruns)")
+            config = experiment.train_config(run, args.profile)
+            if not args.force and _same_run(path.parent, config, list(range(profile.seeds)), path.name):
+                print(f"skip {path}: complete results of this configuration exist (--force reruns)")
                 continue
             todo.append((experiment, run, path))
     updates = sum(experiment.steps(run, args.profile) * ALGORITHMS[run.algo]().updates_per_step
@@ -154,12 +155,13 @@ def reproduce_command(args) -> int:
     return 0
 
 
-def _same_run(folder: Path, config, seeds):
-    """A complete results file under `folder` for exactly this configuration and these seeds, if any."""
+def _same_run(folder: Path, config, seeds, pattern: str | None = None):
+    """A complete results file matching `pattern` under `folder` for exactly this configuration and seeds."""
     from mjx_badger import results
 
     wanted = json.loads(json.dumps(results.config_dict(config)))  # as stored: tuples become lists
-    for path in sorted(folder.glob(f"*/{config.approach}_{config.algo}_{config.task}.json")):
+    pattern = pattern or f"*/{config.approach}_{config.algo}_{config.task}.json"
+    for path in sorted(folder.glob(pattern)):
         document = results.read(path)
         if document.get("complete") and document["config"] == wanted and document["seeds"] == seeds:
             return path

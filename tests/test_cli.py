@@ -69,3 +69,24 @@ def test_a_run_shared_by_two_experiments_is_found_and_reused(tmp_path):
     assert _same_run(tmp_path, config, [0, 1, 2]) is None
     assert _same_run(tmp_path, EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "quick"),
                      [0, 1]) is None
+
+
+def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_path, monkeypatch):
+    from mjx_badger import cli, results
+    from mjx_badger.experiments import EXPERIMENTS
+
+    experiment = EXPERIMENTS["forward"]
+    ran = []
+    monkeypatch.setattr("mjx_badger.runner.run", lambda config, seeds, path, progress: ran.append(path.name))
+    monkeypatch.setattr("mjx_badger.plots.draw", lambda *args: [])
+    folder = tmp_path / "smoke" / "forward"
+    for index, run in enumerate(experiment.runs):
+        config = experiment.train_config(run, "smoke")
+        if index == 1:  # same file name, different configuration: must rerun
+            config = config.__class__(**{**config.__dict__, "eval_steps": config.eval_steps + 1})
+        results.write(folder / f"{run.approach}_{run.algo}_{run.task}.json",
+                      {"schema": results.SCHEMA, "config": results.config_dict(config), "seeds": [0, 1],
+                       "complete": index != 2})
+    assert cli.main(["reproduce", "--profile", "smoke", "--experiments", "forward",
+                     "--results-dir", str(tmp_path), "--figures-dir", str(tmp_path / "fig")]) == 0
+    assert ran == ["jt-lpf_crossq_forward.json", "jt-oef_crossq_forward.json"]
