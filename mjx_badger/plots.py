@@ -123,50 +123,33 @@ def algorithms_figure(experiment: Experiment, documents: dict, out: Path, profil
                            ("Algorithm comparison, JT-NF forward at 0.5 m/s", thesis))
 
 
-def _falls_cell(s: dict, thesis: dict) -> str:
-    thesis_falls = f"~{thesis['falls']}" if "falls" in thesis else "not given"
-    return (f"{s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {thesis_falls} "
-            f"| {s['falls_after_warmup_mean']:.1f} |")
-
-
-def forward_table(experiment: Experiment, documents: dict) -> str:
-    """Markdown table of our numbers beside the thesis's."""
+def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
+    """Markdown table of our numbers beside the thesis's; time to target in steps or simulated minutes."""
+    by_minutes = x_axis == "minutes"
     lines = [
-        "| approach | seeds x steps | steps to 90 % of 0.5 m/s (ours / thesis) | final train velocity "
+        f"| {experiment.compares.replace('algo', 'algorithm')} "
+        f"| seeds x steps{' (simulated min)' if by_minutes else ''} "
+        f"| {'minutes' if by_minutes else 'steps'} to 90 % of 0.5 m/s (ours / thesis) | final train velocity "
         "| final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) | of which after warm-up |",
         "|---|---|---|---|---|---|---|",
     ]
+    unit, fmt = ("minutes_to_target", "{:.1f}") if by_minutes else ("steps_to_target", "{:,}")
     for label, document in documents.items():
         s = summarize(document, experiment.target_velocity)
         thesis = experiment.thesis_numbers.get(label, {})
-        reached = f"{s['steps_to_target']:,}" if s["steps_to_target"] else "not reached"
+        ours = "not reached" if s[unit] is None else fmt.format(s[unit])
+        theirs = f"~{fmt.format(thesis[unit])}" if unit in thesis else "reached (no figure given)"
+        size = f"{s['seeds']} x {s['steps']:,}" + (f" ({s['minutes']:.1f})" if by_minutes else "")
+        thesis_falls = f"~{thesis['falls']}" if "falls" in thesis else "not given"
         lines.append(
-            f"| {NAMES.get(label, label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'} "
-            f"| {reached} / ~{thesis.get('steps_to_target', 0):,} "
-            f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s | " + _falls_cell(s, thesis))
+            f"| {NAMES.get(label, label)} | {size}{'' if s['complete'] else ' (incomplete)'} | {ours} / {theirs} "
+            f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s "
+            f"| {s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {thesis_falls} "
+            f"| {s['falls_after_warmup_mean']:.1f} |")
     return "\n".join(lines) + "\n"
 
 
-def algorithms_table(experiment: Experiment, documents: dict) -> str:
-    """Markdown table of the algorithm comparison beside the thesis's numbers."""
-    lines = [
-        "| algorithm | seeds x steps (simulated min) | minutes to 90 % of 0.5 m/s (ours / thesis) "
-        "| final train velocity | final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) "
-        "| of which after warm-up |",
-        "|---|---|---|---|---|---|---|",
-    ]
-    for label, document in documents.items():
-        s = summarize(document, experiment.target_velocity)
-        thesis = experiment.thesis_numbers.get(label, {})
-        reached = f"{s['minutes_to_target']:.1f}" if s["minutes_to_target"] is not None else "not reached"
-        lines.append(
-            f"| {NAMES.get(label, label)} | {s['seeds']} x {s['steps']:,} ({s['minutes']:.1f}){'' if s['complete'] else ' (incomplete)'} "
-            f"| {reached} / {('~' + str(thesis['minutes_to_target'])) if 'minutes_to_target' in thesis else 'reached'} "
-            f"| {s['final_velocity']:.2f} m/s | {s['final_eval_velocity']:.2f} m/s | " + _falls_cell(s, thesis))
-    return "\n".join(lines) + "\n"
-
-
-FIGURES = {"forward": (forward_figure, forward_table), "algo-comparison": (algorithms_figure, algorithms_table)}
+FIGURES = {"forward": (forward_figure, "steps"), "algo-comparison": (algorithms_figure, "minutes")}
 
 
 def draw(results_dir: Path, figures_dir: Path, profile: str, names=None) -> list[Path]:
@@ -177,9 +160,9 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None) -> list
         documents = load_experiment(experiment, Path(results_dir) / name)
         if not documents:
             continue
-        figure, table = FIGURES[name]
+        figure, x_axis = FIGURES[name]
         written.append(figure(experiment, documents, Path(figures_dir) / f"{name}_{profile}.png", profile))
         table_path = Path(figures_dir) / f"{name}_{profile}.md"
-        table_path.write_text(table(experiment, documents))
+        table_path.write_text(comparison_table(experiment, documents, x_axis))
         written.append(table_path)
     return written
