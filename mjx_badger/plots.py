@@ -91,7 +91,7 @@ def learning_curves(experiment: Experiment, documents: dict, out: Path, profile:
         ax.set_ylabel(ylabel)
         ax.set_xlabel("environment steps [k]" if x_axis == "steps" else "simulated minutes (steps / control Hz)")
         ax.grid(alpha=0.3)
-    axes[0].legend(loc="upper left", fontsize=8)
+    axes[0].legend(loc="best", fontsize=8)
     seeds = sorted({len(d["seeds"]) for d in documents.values()})
     fig.suptitle(f"{thesis_note[0]}, {profile} profile ({'/'.join(map(str, seeds))} seeds, mean and min/max band)\n"
                  f"thesis {experiment.thesis_figure} (10 seeds, 50k steps): {thesis_note[1]}", fontsize=10)
