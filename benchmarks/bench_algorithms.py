@@ -14,7 +14,11 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 
-from bench_spine import timed, train_chunk, updates_per_s
+import time
+
+import numpy as np
+
+from bench_spine import chunk_program, timed, train_chunk, update_program, updates_per_s
 from mjx_badger import results
 from mjx_badger.agents import ALGORITHMS, make_agent
 
@@ -30,14 +34,37 @@ def act_seconds(algo):
     return timed(lambda: act(state, obs, jax.random.PRNGKey(1)), repeats=200)
 
 
+def utd20_overhead(repeats=5):
+    """Gradient updates/s while training at 20 updates per step over updates/s with no environment.
+
+    SAC-UTD20's networks, 1 seed, 200 updates each way, timed alternately in one process so
+    drifts of this shared machine's speed hit both sides alike; returns both rates and the ratio.
+    """
+    updates, args_u = update_program(1, "sac-utd20", updates=200)
+    _, chunk, args_c = chunk_program(1, chunk_steps=10, algo="sac-utd20")
+    jax.block_until_ready(updates(*args_u))
+    alone, training = [], []
+    for _ in range(repeats):
+        for fn, args, out in ((updates, args_u, alone), (chunk, args_c, training)):
+            t0 = time.perf_counter()
+            jax.block_until_ready(fn(*args))
+            out.append(200 / (time.perf_counter() - t0))
+    alone, training = float(np.median(alone)), float(np.median(training))
+    return alone, training, training / alone
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--algos", nargs="+", choices=list(ALGORITHMS), default=list(ALGORITHMS),
+                        help="measure only these; the others' rows are kept from an existing --out file")
     args = parser.parse_args()
 
     table = {}
-    for algo, make in ALGORITHMS.items():
-        cfg = make()
+    if args.out.exists() and set(args.algos) != set(ALGORITHMS):
+        table = json.loads(args.out.read_text())["algorithms"]
+    for algo in args.algos:
+        cfg = ALGORITHMS[algo]()
         row = {"updates_per_step": cfg.updates_per_step, "control_hz": cfg.control_hz}
         row["updates_per_s_1_seed"], _ = updates_per_s(1, algo)
         _, row["updates_per_s_total_10_seeds"] = updates_per_s(10, algo)
@@ -52,16 +79,17 @@ def main():
             row[f"max_updates_per_step_at_{hz}_hz"] = max(0, math.floor((1000 / hz - row["act_ms"]) / update_ms))
         table[algo] = row
 
+    table = {algo: table[algo] for algo in ALGORITHMS}
     columns = list(next(iter(table.values())))
     print("algorithm  " + "  ".join(f"{c:>10.10s}" for c in columns))
     for algo, row in table.items():
         print(f"{algo:10s} " + "  ".join(f"{row[c]:10.1f}" for c in columns))
-    sac, utd20 = table["sac"], table["sac-utd20"]
-    ratio = utd20["train_updates_per_s_1_seeds"] / sac["train_updates_per_s_1_seeds"]
-    print(f"gradient updates/s in training at 20 per step vs 1 per step (SAC, 1 seed): x{ratio:.2f} "
-          f"(target >= 0.9: {'met' if ratio >= 0.9 else 'MISSED'})")
+    alone, training, ratio = utd20_overhead()
+    print(f"SAC-UTD20, 1 seed: {training:.1f} gradient updates/s while training at 20 per step, {alone:.1f} with no "
+          f"environment: x{ratio:.2f} (target >= 0.9: {'met' if ratio >= 0.9 else 'MISSED'})")
     document = {"algorithms": {a: {k: round(v, 3) for k, v in r.items()} for a, r in table.items()},
-                "utd20_vs_utd1_update_rate": round(ratio, 3), "measured": results.now(),
+                "utd20_overhead": {"updates_per_s_alone": round(alone, 1), "updates_per_s_training": round(training, 1),
+                                   "ratio": round(ratio, 3)}, "measured": results.now(),
                 "versions": results.versions(), "git_commit": results.git_commit(), "hardware": results.hardware()}
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(document, indent=1))

@@ -66,8 +66,8 @@ def mjx_env_steps_per_s(batch, steps=200):
     return batch * steps / timed(fn, jax.random.split(jax.random.PRNGKey(0), batch))
 
 
-def updates_per_s(seeds, algo="crossq", updates=200):
-    """Gradient updates per second per seed and in total, on a filled replay buffer.
+def update_program(seeds, algo="crossq", updates=200):
+    """A compiled scan of `updates` gradient updates on a filled replay buffer, and its arguments.
 
     One seed runs the unbatched program, as the runner does (see runner.seeds_chunk).
     """
@@ -87,25 +87,39 @@ def updates_per_s(seeds, algo="crossq", updates=200):
 
     keys = jax.random.split(jax.random.PRNGKey(0), seeds)
     if seeds == 1:
-        seconds = timed(jax.jit(run), keys[0], buffer)
-    else:
-        buffers = jax.tree.map(lambda x: jnp.broadcast_to(x, (seeds,) + x.shape), buffer)
-        seconds = timed(jax.jit(jax.vmap(run)), keys, buffers)
+        return jax.jit(run), (keys[0], buffer)
+    buffers = jax.tree.map(lambda x: jnp.broadcast_to(x, (seeds,) + x.shape), buffer)
+    return jax.jit(jax.vmap(run)), (keys, buffers)
+
+
+def updates_per_s(seeds, algo="crossq", updates=200):
+    """Gradient updates per second per seed and in total, on a filled replay buffer."""
+    fn, args = update_program(seeds, algo, updates)
+    seconds = timed(fn, *args)
     return updates / seconds, seeds * updates / seconds
 
 
-def train_chunk(seeds, chunk_steps=500, algo="crossq"):
-    """Compile time and seed-steps/s of a full training chunk (env step + updates per step)."""
-    config = TrainConfig(approach="jt-oef", algo=algo, total_steps=20_000, chunk_steps=chunk_steps, warmup_steps=0)
+def chunk_program(seeds, chunk_steps=500, algo="crossq"):
+    """Compile time, the compiled training chunk and its arguments (JT-OEF, forward, no warm-up).
+
+    The chunk's deterministic evaluation is cut to one step: these figures are the
+    learning loop's throughput (env step, replay, updates), not the evaluation's.
+    """
+    config = TrainConfig(approach="jt-oef", algo=algo, total_steps=20_000, chunk_steps=chunk_steps, warmup_steps=0,
+                         eval_steps=1)
     trainer = make_train(config)
     carry = jax.jit(jax.vmap(trainer.init))(jax.random.split(jax.random.PRNGKey(0), seeds))
     t0 = time.perf_counter()
     chunk = jax.jit(runner.seeds_chunk(trainer, seeds)).lower(carry, 0).compile()
     compile_s = time.perf_counter() - t0
     carry, _ = jax.block_until_ready(chunk(carry, 0))
-    t0 = time.perf_counter()
-    carry, _ = jax.block_until_ready(chunk(carry, chunk_steps))
-    return compile_s, seeds * chunk_steps / (time.perf_counter() - t0)
+    return compile_s, chunk, (carry, chunk_steps)
+
+
+def train_chunk(seeds, chunk_steps=500, algo="crossq"):
+    """Compile time and seed-steps/s of a full training chunk (env step + updates per step)."""
+    compile_s, chunk, args = chunk_program(seeds, chunk_steps, algo)
+    return compile_s, seeds * chunk_steps / timed(chunk, *args, repeats=2)
 
 
 def memory_of_run(seeds, steps):

@@ -159,11 +159,16 @@ def _same_run(folder: Path, config, seeds, pattern: str | None = None):
     """A complete results file matching `pattern` under `folder` for exactly this configuration and seeds."""
     from mjx_badger import results
 
-    wanted = json.loads(json.dumps(results.config_dict(config)))  # as stored: tuples become lists
+    from mjx_badger.train import TrainConfig
+
+    as_stored = lambda c: json.loads(json.dumps(results.config_dict(c)))  # tuples become lists
+    wanted, defaults = as_stored(config), as_stored(TrainConfig())
     pattern = pattern or f"*/{config.approach}_{config.algo}_{config.task}.json"
     for path in sorted(folder.glob(pattern)):
         document = results.read(path)
-        if document.get("complete") and document["config"] == wanted and document["seeds"] == seeds:
+        # A field added after a file was written counts as its default value.
+        stored = {**{k: defaults[k] for k in wanted if k not in document["config"]}, **document["config"]}
+        if document.get("complete") and stored == wanted and document["seeds"] == seeds:
             return path
     return None
 

@@ -42,7 +42,8 @@ class Experiment:
     """Per compared name (approach or algorithm): the thesis's reported values, for side-by-side tables."""
     compares: str = "approach"
     """Which field of a run the experiment compares: 'approach' or 'algo'."""
-    target_velocity: float = 0.5
+    target_velocity: float | None = 0.5
+    """The velocity a run should reach (None: as fast as possible)."""
     step_caps: dict = dataclasses.field(default_factory=dict)
     """profile -> {algo: steps}: fewer steps for algorithms a CPU cannot afford at that profile."""
 
@@ -58,6 +59,9 @@ class Experiment:
                            total_steps=self.steps(run, profile_name), chunk_steps=profile.chunk_steps,
                            warmup_steps=profile.warmup_steps, eval_steps=profile.eval_steps)
 
+
+APPROACHES = ("jt-nf", "jt-lpf", "jt-oef", "cpg-d", "cpg-vf", "cpg-rt")
+"""The six approaches of thesis Table 5.2 (the residual-combination variants are options, not experiments)."""
 
 EXPERIMENTS = {
     "algo-comparison": Experiment(
@@ -79,13 +83,60 @@ EXPERIMENTS = {
     ),
     "forward": Experiment(
         name="forward",
-        thesis_figure="Fig 5.3",
-        runs=tuple(Run(a, "crossq", "forward") for a in ("jt-nf", "jt-lpf", "jt-oef")),
-        # Thesis §5.1.2: steps to converge to 0.5 m/s, mean falls over 50k steps, gait frequency.
+        thesis_figure="Figs 5.3-5.5",
+        runs=tuple(Run(a, "crossq", "forward") for a in APPROACHES),
+        # Thesis §5.1.2: steps to converge to 0.5 m/s ("more than 10k" for CPG-RT), mean falls over
+        # 50k steps, gait frequency after training.
         thesis_numbers={
             "jt-nf": {"steps_to_target": 5_000, "falls": 13, "gait_hz": 6.0},
             "jt-lpf": {"steps_to_target": 10_000, "falls": 7, "gait_hz": 2.5},
             "jt-oef": {"steps_to_target": 5_000, "falls": 7, "gait_hz": 4.0},
+            "cpg-d": {"steps_to_target": 10_000, "falls": 0, "gait_hz": 2.0},
+            "cpg-vf": {"steps_to_target": 5_000, "falls": 0, "gait_hz": 2.5},
+            "cpg-rt": {"steps_to_target": ">10k", "falls": 0, "gait_hz": 2.0},
+        },
+    ),
+    "forward-max": Experiment(
+        name="forward-max",
+        thesis_figure="Figs 5.6-5.8, Tables 6.1/6.2",
+        runs=tuple(Run(a, "crossq", "forward-max") for a in APPROACHES),
+        # Thesis §5.1.3 and Tables 6.1/6.2 (simulation column): maximal forward velocity (m/s),
+        # mean falls over 50k steps, gait frequency.
+        thesis_numbers={
+            "jt-nf": {"max_velocity": 2.2, "falls": 9, "gait_hz": 4.0},
+            "jt-lpf": {"max_velocity": 1.15, "falls": 30},
+            "jt-oef": {"max_velocity": 1.3, "falls": 9},
+            "cpg-d": {"max_velocity": 0.55, "falls": 0, "gait_hz": 2.0},
+            "cpg-vf": {"max_velocity": 0.75, "falls": 0, "gait_hz": 2.5},
+            "cpg-rt": {"max_velocity": 0.55, "falls": 0, "gait_hz": 2.0},
+        },
+        target_velocity=None,
+    ),
+    "omni-random": Experiment(
+        name="omni-random",
+        thesis_figure="Figs 5.9-5.11",
+        runs=tuple(Run(a, "crossq", "omni-random") for a in APPROACHES),
+        # Thesis §5.1.4: JT approaches ~30 falls and stand still; CPG approaches never fall, CPG-VF
+        # best (reaches the target forward and backward, yaw within +-0.2 rad/s).
+        thesis_numbers={
+            "jt-nf": {"falls": 30, "finding": "stands still"},
+            "jt-lpf": {"falls": 30, "finding": "stands still"},
+            "jt-oef": {"falls": 30, "finding": "stands still"},
+            "cpg-d": {"falls": 0, "finding": "moves in every direction, below CPG-VF"},
+            "cpg-vf": {"falls": 0, "finding": "best; target reached forward and backward"},
+            "cpg-rt": {"falls": 0, "finding": "moves; uneven, weakest to the right"},
+        },
+    ),
+    "omni-pdec": Experiment(
+        name="omni-pdec",
+        thesis_figure="Figs 5.12-5.14",
+        runs=tuple(Run(a, "crossq", "omni-pdec") for a in ("cpg-d", "cpg-vf", "cpg-rt")),
+        # Thesis §5.1.5: the curriculum improves every CPG approach over random commands; no falls;
+        # the desired-velocity MAE stays about 0.05 m/s.
+        thesis_numbers={
+            "cpg-d": {"falls": 0, "desired_mae": 0.05},
+            "cpg-vf": {"falls": 0, "desired_mae": 0.05},
+            "cpg-rt": {"falls": 0, "desired_mae": 0.05},
         },
     ),
 }

@@ -9,6 +9,9 @@ Schema `mjx_badger.results/1`:
     sim_minutes   the same in simulated minutes (steps / control frequency / 60)
     metrics       name -> list (chunks,) of list (seeds,); null where undefined
                   (e.g. train/episode_return in a chunk where no episode ended)
+    gait          after the last chunk: a deterministic run under the task's first evaluation
+                  command, its second half at the physics rate: physics_dt, seconds, command,
+                  contacts (seeds, T, 4) of 0/1 per foot FL, FR, RL, RR, forward_velocity (seeds, T)
     wall_clock    started / updated (ISO 8601), compile_s, run_s, seed_steps_per_s
     versions      python and package versions
     git_commit    commit of the code that ran, "+dirty" when it had local changes

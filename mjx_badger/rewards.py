@@ -38,3 +38,30 @@ def combine(terms: dict, weights: dict, scale: float):
     contributions = {name: weights[name] * value for name, value in terms.items()}
     total = scale * sum(contributions.values())
     return jnp.maximum(total, 0.0), contributions
+
+
+def planar_velocity_tracking(velocity_xy, target_xy, width: float = 0.5):
+    """§4.4.2 approach 2: clip(1 - ||v_xy - v_d|| / 0.5, 0, 1), one joint 2-D tracking term."""
+    return jnp.clip(1.0 - jnp.linalg.norm(velocity_xy - target_xy, axis=-1) / width, 0.0, 1.0)
+
+
+def along_and_lateral(velocity_xy, target_xy):
+    """§4.4.2 approach 1 (Fig 4.5): velocity rotated into the command's frame, (along, lateral).
+
+    A zero command counts as forward.
+    """
+    norm = jnp.linalg.norm(target_xy, axis=-1, keepdims=True)
+    direction = jnp.where(norm > 1e-6, target_xy / jnp.maximum(norm, 1e-6), jnp.array([1.0, 0.0]))
+    along = jnp.sum(velocity_xy * direction, axis=-1)
+    lateral = direction[..., 0] * velocity_xy[..., 1] - direction[..., 1] * velocity_xy[..., 0]
+    return along, lateral
+
+
+def forward_minus_lateral(velocity_xy):
+    """Table 4.6 velocity term read as v_x - |v_y| (DESIGN.md)."""
+    return velocity_xy[..., 0] - jnp.abs(velocity_xy[..., 1])
+
+
+def yaw_rate_abs(yaw_rate):
+    """Table 4.6 yaw penalty: |omega_z|."""
+    return jnp.abs(yaw_rate)

@@ -1,5 +1,6 @@
 """HB40 model and physical constants (DESIGN.md, thesis §4.1)."""
 
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import mujoco
@@ -30,9 +31,25 @@ TORQUE_LIMIT = 16.0
 STANDING_HEIGHT = 0.02 + 0.4 * np.cos(0.6) * np.cos(0.1)
 
 
-def load_model() -> mujoco.MjModel:
-    """Native MuJoCo model of the HB40."""
-    return mujoco.MjModel.from_xml_path(str(MODEL_PATH))
+def load_model(split_pd: bool = False) -> mujoco.MjModel:
+    """Native MuJoCo model of the HB40.
+
+    With `split_pd` every joint gets a second PD actuator and both run at half gains and half
+    torque limit: their summed torque is the average of two full PD controllers, each clipped
+    at +-16 N m, which is how the residual CPG combines its two targets in simulation
+    (thesis §4.3). Actuators 0-11 take the first targets, 12-23 the second.
+    """
+    if not split_pd:
+        return mujoco.MjModel.from_xml_path(str(MODEL_PATH))
+    root = ET.parse(MODEL_PATH).getroot()
+    actuators = root.find("actuator")
+    originals = list(actuators)
+    half = {"kp": f"{KP / 2:g}", "kv": f"{KD / 2:g}", "forcerange": f"{-TORQUE_LIMIT / 2:g} {TORQUE_LIMIT / 2:g}"}
+    for element in originals:
+        element.attrib.update(half)
+    for element in originals:
+        actuators.append(ET.Element("position", dict(element.attrib, name=element.get("name") + "_residual")))
+    return mujoco.MjModel.from_xml_string(ET.tostring(root, encoding="unicode"))
 
 
 def standing_qpos(model: mujoco.MjModel) -> np.ndarray:

@@ -74,8 +74,33 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
         document["hardware"] = results.hardware()
         results.write(out_path, document)
         bar.update(config.chunk_steps)
-        bar.set_postfix(v=f"{np.mean(metrics['train/forward_velocity']):.2f}",
-                        eval_v=f"{np.mean(metrics['eval/forward_velocity']):.2f}",
-                        falls=f"{np.mean(metrics['train/falls']):.1f}")
+        bar.set_postfix(progress_figures(metrics))
     bar.close()
+    document["gait"] = gait_record(trainer, carry, config)
+    results.write(out_path, document)
     return document
+
+
+def progress_figures(metrics: dict) -> dict:
+    """Seed means shown beside the progress bar: velocity along the command, evaluation, falls."""
+    shown = {"v": np.mean(metrics["train/desired_velocity"])}
+    if "eval/forward_velocity" in metrics:
+        shown["eval_v"] = np.mean(metrics["eval/forward_velocity"])
+    else:
+        shown["eval_mae"] = np.mean(metrics["eval/desired_mae"])
+    if "curriculum/learned_bins" in metrics:
+        shown["bins"] = np.mean(metrics["curriculum/learned_bins"])
+    shown["falls"] = np.mean(metrics["train/falls"])
+    return {k: f"{v:.2f}" for k, v in shown.items()}
+
+
+def gait_record(trainer, carry, config: TrainConfig) -> dict:
+    """Foot contacts and forward velocity at the physics rate from a deterministic run after training."""
+    trace = jax.device_get(jax.jit(jax.vmap(trainer.gait))(carry))
+    return {
+        "physics_dt": trainer.env.mj_model.opt.timestep,
+        "seconds": config.gait_seconds / 2,
+        "command": list(map(float, next(iter(trainer.env.task.eval_commands.values())))),
+        "contacts": np.asarray(trace["contacts"], dtype=int).tolist(),
+        "forward_velocity": np.asarray(trace["forward_velocity"], dtype=float).round(4).tolist(),
+    }

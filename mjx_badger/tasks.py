@@ -1,10 +1,18 @@
-"""Tasks: the command a robot is given and the reward it earns for following it."""
+"""Tasks: the command a robot is given, the reward it earns for following it, and its curriculum.
+
+A task is pure functions over a small task state that lives in the environment state (so a
+curriculum runs per seed under vmap): `init() -> state`, `command(state, key) -> (state,
+[vx, vy, yaw rate])` at every episode start, `update(state, command, motion) -> state`
+after every step, `progress(state) -> metrics`, and `reward(motion, command) -> (reward,
+weighted terms)`. `eval_commands` are the fixed commands of the deterministic evaluation.
+"""
 
 from typing import Callable, NamedTuple
 
+import jax
 import jax.numpy as jnp
 
-from mjx_badger import rewards
+from mjx_badger import curriculum, rewards
 
 
 class Motion(NamedTuple):
@@ -14,43 +22,133 @@ class Motion(NamedTuple):
     angular_velocity: jnp.ndarray  # (3,) rad/s
     roll: jnp.ndarray
     pitch: jnp.ndarray
-    torque: jnp.ndarray  # (12,) N m
+    torque: jnp.ndarray  # (12,) N m, net joint torques
 
 
 class Task(NamedTuple):
-    """A named task: `command(key) -> (3,)` [vx, vy, yaw rate], `reward(motion, command)`, term weights."""
+    """A named task; see the module docstring for the functions."""
 
     name: str
     command: Callable
     reward: Callable
     weights: dict
+    eval_commands: dict
+    """Evaluation run name -> command (3,)."""
+    init: Callable = lambda: ()
+    update: Callable = lambda state, command, motion: state
+    progress: Callable = lambda state: {}
 
 
-FORWARD_TARGET_VELOCITY = 0.5
+TARGET_VELOCITY = 0.5
 FORWARD_WEIGHTS = {"velocity": 1.0, "yaw": -0.1, "roll_pitch": -10.0, "energy": -0.0003}
+MAX_VELOCITY_WEIGHTS = {"velocity": 2.0, "yaw": -0.1, "roll_pitch": -10.0}
+OMNI_WEIGHTS = {"velocity": 1.0, "yaw": -0.1, "roll_pitch": -10.0, "energy": -0.0003}
+LATERAL_PENALTY_WEIGHT = -1.0
 REWARD_SCALE = 10.0
 
 
-def forward(target_velocity: float = FORWARD_TARGET_VELOCITY, weights=None) -> Task:
+def fixed(command):
+    """The same command every episode."""
+    command = jnp.asarray(command, dtype=jnp.float32)
+    return lambda state, key: (state, command)
+
+
+def _penalties(motion: Motion, squared_yaw: bool = True, energy: bool = True) -> dict:
+    terms = {
+        "yaw": (rewards.yaw_rate_squared if squared_yaw else rewards.yaw_rate_abs)(motion.angular_velocity[2]),
+        "roll_pitch": rewards.roll_pitch_squared(motion.roll, motion.pitch),
+    }
+    if energy:
+        terms["energy"] = rewards.torque_squared(motion.torque)
+    return terms
+
+
+def forward(target_velocity: float = TARGET_VELOCITY, weights=None) -> Task:
     """Forward locomotion at a target velocity (thesis §4.4.1, Table 4.5)."""
     weights = dict(FORWARD_WEIGHTS if weights is None else weights)
 
-    def command(key):
-        return jnp.array([target_velocity, 0.0, 0.0])
-
     def reward(motion: Motion, cmd):
-        terms = {
-            "velocity": rewards.velocity_tracking(motion.linear_velocity[0], cmd[0]),
-            "yaw": rewards.yaw_rate_squared(motion.angular_velocity[2]),
-            "roll_pitch": rewards.roll_pitch_squared(motion.roll, motion.pitch),
-            "energy": rewards.torque_squared(motion.torque),
-        }
+        terms = {"velocity": rewards.velocity_tracking(motion.linear_velocity[0], cmd[0]), **_penalties(motion)}
         return rewards.combine(terms, weights, REWARD_SCALE)
 
-    return Task(name="forward", command=command, reward=reward, weights=weights)
+    command = (target_velocity, 0.0, 0.0)
+    return Task(name="forward", command=fixed(command), reward=reward, weights=weights,
+                eval_commands={"forward": command})
 
 
-TASKS = {"forward": forward}
+def forward_max(weights=None) -> Task:
+    """Forward locomotion as fast as possible (thesis §5.1.3, Table 4.6); the command reads zero."""
+    weights = dict(MAX_VELOCITY_WEIGHTS if weights is None else weights)
+
+    def reward(motion: Motion, cmd):
+        terms = {"velocity": rewards.forward_minus_lateral(motion.linear_velocity[:2]),
+                 **_penalties(motion, squared_yaw=False, energy=False)}
+        return rewards.combine(terms, weights, REWARD_SCALE)
+
+    return Task(name="forward-max", command=fixed((0.0, 0.0, 0.0)), reward=reward, weights=weights,
+                eval_commands={"forward": (0.0, 0.0, 0.0)})
+
+
+def omni_eval_commands(speed: float = TARGET_VELOCITY) -> dict:
+    """§5.1.4: forward, backward, left, right at the full and half target speed."""
+    directions = {"forward": (1, 0), "backward": (-1, 0), "left": (0, 1), "right": (0, -1)}
+    return {f"{name}_{level}": (scale * speed * dx, scale * speed * dy, 0.0)
+            for name, (dx, dy) in directions.items() for level, scale in (("full", 1.0), ("half", 0.5))}
+
+
+def omni_reward(weights: dict, rotated: bool):
+    """§4.4.2 velocity reward plus the Table 4.5 penalties.
+
+    `rotated` is approach 1 (velocity turned into the command's frame, the Table 4.5 term on
+    the along-command speed, and a lateral penalty |v_lat|); otherwise approach 2, the joint
+    2-D tracking term the thesis's experiments use.
+    """
+
+    def reward(motion: Motion, cmd):
+        velocity = motion.linear_velocity[:2]
+        if rotated:
+            along, lateral = rewards.along_and_lateral(velocity, cmd[:2])
+            terms = {"velocity": rewards.velocity_tracking(along, jnp.linalg.norm(cmd[:2])),
+                     "lateral": jnp.abs(lateral)}
+        else:
+            terms = {"velocity": rewards.planar_velocity_tracking(velocity, cmd[:2])}
+        terms.update(_penalties(motion))
+        return rewards.combine(terms, weights, REWARD_SCALE)
+
+    return reward
+
+
+def omni_random(speed: float = TARGET_VELOCITY, rotated: bool = False) -> Task:
+    """Omnidirectional locomotion, direction uniform on the circle every episode (§5.1.4)."""
+    weights = dict(OMNI_WEIGHTS, **({"lateral": LATERAL_PENALTY_WEIGHT} if rotated else {}))
+
+    def command(state, key):
+        angle = jax.random.uniform(key, minval=-jnp.pi, maxval=jnp.pi)
+        return state, jnp.array([speed * jnp.cos(angle), speed * jnp.sin(angle), 0.0])
+
+    return Task(name="omni-random-rotated" if rotated else "omni-random", command=command,
+                reward=omni_reward(weights, rotated), weights=weights, eval_commands=omni_eval_commands(speed))
+
+
+def omni_pdec(speed: float = TARGET_VELOCITY) -> Task:
+    """Omnidirectional locomotion under the Progressive Directional Expansion Curriculum (§4.5.1)."""
+    weights = dict(OMNI_WEIGHTS)
+
+    def update(state, cmd, motion: Motion):
+        return curriculum.record(state, cmd, motion.linear_velocity[:2], motion.angular_velocity[2])
+
+    return Task(name="omni-pdec", command=lambda state, key: curriculum.sample(state, key, speed),
+                reward=omni_reward(weights, rotated=False), weights=weights, eval_commands=omni_eval_commands(speed),
+                init=curriculum.init, update=update, progress=curriculum.progress)
+
+
+TASKS = {
+    "forward": forward,
+    "forward-max": forward_max,
+    "omni-random": omni_random,
+    "omni-random-rotated": lambda: omni_random(rotated=True),
+    "omni-pdec": omni_pdec,
+}
 
 
 def make_task(name: str) -> Task:

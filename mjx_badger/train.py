@@ -34,7 +34,9 @@ class TrainConfig:
     warmup_steps: int = 1_000
     """Uniform random actions before learning starts (thesis §5.1: 1000)."""
     eval_steps: int = 400
-    """Length of the deterministic evaluation run after every chunk."""
+    """Length of each deterministic evaluation run after every chunk."""
+    gait_seconds: float = 4.0
+    """Simulated seconds of the deterministic run after training; its second half is kept as the gait record."""
     env: EnvConfig | None = None
     """Environment settings; None means the defaults at the algorithm's control frequency."""
     agent: AgentConfig | None = None
@@ -70,6 +72,7 @@ class Trainer(NamedTuple):
     init: Callable
     chunk: Callable
     train: Callable
+    gait: Callable
 
 
 def make_train(config: TrainConfig) -> Trainer:
@@ -137,26 +140,70 @@ def make_train(config: TrainConfig) -> Trainer:
                               episode_return=jnp.where(done, 0.0, episode_return))
         return carry, step_metrics
 
-    def evaluate(agent_state, key):
-        """Deterministic policy from a fresh episode for `eval_steps` steps."""
+    eval_names = tuple(env.task.eval_commands)
+    eval_commands = jnp.asarray([env.task.eval_commands[name] for name in eval_names], dtype=jnp.float32)
+
+    def evaluate_one(agent_state, key, command):
+        """Deterministic policy from a fresh episode under `command`; the steps after a first fall are ignored."""
 
         def body(state, _):
             state = env.step(state, agent.act(agent_state, state.obs, None, deterministic=True))
-            return state, (state.reward, state.metrics["forward_velocity"], state.info["terminated"])
+            m = state.metrics
+            return state, (state.reward, m["desired_velocity"], m["command_lateral_velocity"], m["yaw_rate"],
+                           state.info["terminated"])
 
-        _, (reward, velocity, terminated) = jax.lax.scan(body, env.reset(key), None, length=config.eval_steps)
+        _, (reward, along, lateral, yaw, terminated) = jax.lax.scan(
+            body, env.reset(key, command), None, length=config.eval_steps)
+        upright = jnp.cumsum(terminated) == 0
+        mean = lambda x: jnp.sum(jnp.where(upright, x, 0.0)) / jnp.maximum(jnp.sum(upright), 1)
+        speed = jnp.linalg.norm(command[:2])
         return {
-            "eval/return": jnp.sum(reward),
-            "eval/forward_velocity": jnp.mean(velocity),
-            "eval/falls": jnp.sum(terminated.astype(jnp.float32)),
+            "return": jnp.sum(jnp.where(upright, reward, 0.0)),
+            "desired_velocity": mean(along),
+            "lateral_velocity": mean(lateral),
+            "yaw_rate": mean(yaw),
+            "desired_mae": mean(jnp.abs(along - speed)),
+            "lateral_mae": mean(jnp.abs(lateral)),
+            "yaw_mae": mean(jnp.abs(yaw)),
+            "falls": jnp.any(terminated).astype(jnp.float32),
         }
+
+    def evaluate(agent_state, key):
+        """The task's evaluation runs (§5.1.4: four directions x two speeds for the omni tasks)."""
+        if len(eval_names) == 1:
+            run = evaluate_one(agent_state, key, eval_commands[0])
+            return {"eval/return": run["return"], "eval/forward_velocity": run["desired_velocity"],
+                    "eval/lateral_velocity": run["lateral_velocity"], "eval/yaw_rate": run["yaw_rate"],
+                    "eval/falls": run["falls"]}
+        runs = jax.vmap(evaluate_one, in_axes=(None, None, 0))(agent_state, key, eval_commands)
+        metrics = {f"eval/{name}/{k}": v[i] for k, v in runs.items() for i, name in enumerate(eval_names)}
+        metrics.update({f"eval/{k}": jnp.mean(runs[k]) for k in ("return", "desired_mae", "lateral_mae", "yaw_mae")})
+        metrics["eval/falls"] = jnp.sum(runs["falls"])
+        return metrics
+
+    def gait(carry: Carry):
+        """After training: a deterministic run under the first evaluation command, traced at the physics rate.
+
+        Returns the last `gait_seconds / 2` of foot contacts (T, 4) and trunk forward velocity (T,).
+        """
+
+        def body(state, _):
+            action = agent.act(carry.agent_state, state.obs, None, deterministic=True)
+            return env.traced_step(state, action)
+
+        steps = int(round(config.gait_seconds / env.config.control_dt))
+        _, (contacts, velocity) = jax.lax.scan(body, env.reset(carry.eval_key, eval_commands[0]), None, length=steps)
+        keep = steps * env.config.substeps // 2
+        return {"contacts": contacts.reshape(-1, 4)[-keep:].astype(jnp.int8), "forward_velocity": velocity.reshape(-1)[-keep:]}
 
     def chunk(carry: Carry, start_step):
         """`chunk_steps` environment steps with learning, then one evaluation; metrics are per seed."""
         carry, steps = jax.lax.scan(env_step, carry, start_step + jnp.arange(config.chunk_steps))
         episodes = jnp.sum(steps["episode_end"])
-        metrics = {f"train/{k}": jnp.mean(steps[k]) for k in ("forward_velocity", "lateral_velocity",
-                                                             "yaw_rate", "height", "reward")}
+        metrics = {f"train/{k}": jnp.mean(steps[k]) for k in ("forward_velocity", "lateral_velocity", "yaw_rate",
+                                                             "height", "reward", "desired_velocity",
+                                                             "command_lateral_velocity", "desired_error")}
+        metrics.update({k: steps[k][-1] for k in steps if k.startswith("curriculum/")})
         metrics.update({k: jnp.mean(v) for k, v in steps.items() if k.startswith("reward/")})
         metrics.update({f"train/{k}": jnp.nanmean(steps[k]) for k in ("critic_loss", "q_mean", "actor_loss",
                                                                      "entropy", "alpha")})
@@ -173,4 +220,4 @@ def make_train(config: TrainConfig) -> Trainer:
         starts = jnp.arange(config.num_chunks) * config.chunk_steps
         return jax.lax.scan(chunk, init(key), starts)
 
-    return Trainer(config=config, env=env, init=init, chunk=chunk, train=train)
+    return Trainer(config=config, env=env, init=init, chunk=chunk, train=train, gait=gait)

@@ -12,7 +12,7 @@ BATCH = 4
 
 
 def test_observation_layout_is_table_4_1(env, env_fns):
-    assert sum(size for _, size, _ in env_module.OBS_LAYOUT) == 54 == env.observation_size
+    assert sum(size for _, size, _ in env.observation_layout) == 54 == env.observation_size
     assert env.action_size == 12
     state = env_fns[0](jax.random.PRNGKey(0))
     assert state.obs.shape == (54,)

@@ -41,7 +41,7 @@ def test_forward_reward_total_by_hand():
         pitch=jnp.float32(0.0),
         torque=jnp.full(12, 2.0),
     )
-    reward, parts = task.reward(motion, task.command(None))
+    reward, parts = task.reward(motion, task.command((), None)[1])
     # velocity 0.75 * 1; yaw 0.25 * -0.1 = -0.025; roll/pitch 0.01 * -10 = -0.1; energy 48 * -0.0003 = -0.0144
     # total = 10 * (0.75 - 0.025 - 0.1 - 0.0144) = 6.106
     assert float(reward) == pytest.approx(6.106, rel=1e-5)
@@ -53,6 +53,6 @@ def test_forward_reward_is_never_negative():
     task = tasks.forward()
     motion = tasks.Motion(jnp.array([-1.0, 0.0, 0.0]), jnp.array([0.0, 0.0, 3.0]), jnp.float32(0.5),
                           jnp.float32(0.5), jnp.full(12, 16.0))
-    reward, parts = task.reward(motion, task.command(None))
+    reward, parts = task.reward(motion, task.command((), None)[1])
     assert sum(float(v) for v in parts.values()) < 0
     assert float(reward) == 0.0

@@ -76,9 +76,15 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     assert document["wall_clock"]["compile_s"] > 0 and document["hardware"]["peak_memory_mib"] > 0
     json.loads(path.read_text())  # strict JSON
 
+    gait = document["gait"]
+    assert np.array(gait["contacts"]).shape == (2, 400, 4)  # 2 seeds x 2 s at 200 Hz x 4 feet
+    assert set(np.unique(gait["contacts"])) <= {0, 1}
+    assert np.isfinite(np.array(gait["forward_velocity"], dtype=float)).all()
+
     written = plots.draw(tmp_path / "results", tmp_path / "figures", "smoke", ["forward"])
-    assert [p.suffix for p in written] == [".png", ".md"]
-    assert written[0].stat().st_size > 10_000
+    assert [p.name for p in written] == ["forward_smoke.png", "forward_smoke.md", "forward_gait_smoke.png",
+                                         "overview_smoke.png"]
+    assert all(p.stat().st_size > 10_000 for p in written if p.suffix == ".png")
     assert "JT-OEF" in written[1].read_text()
 
 
