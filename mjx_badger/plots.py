@@ -102,11 +102,11 @@ def load_experiment(experiment: Experiment, folder: Path) -> dict:
     return found
 
 
-def _band(ax, x, values, color, label, **style):
+def _band(ax, x, values, color, label, style=None):
     """Mean line with a min/max band over seeds."""
     with np.errstate(all="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN chunks (no episode ended) stay gaps
-        ax.plot(x, np.nanmean(values, axis=1), color=color, label=label, lw=1.8, **style)
+        ax.plot(x, np.nanmean(values, axis=1), **{"color": color, "label": label, "lw": 1.8, **(style or {})})
         ax.fill_between(x, np.nanmin(values, axis=1), np.nanmax(values, axis=1), color=color, alpha=0.15, lw=0)
 
 
@@ -129,7 +129,7 @@ def curve_panel(ax, documents: dict, metric: str, title: str, ylabel: str, x_axi
     for label, document in documents.items():
         if metric in document["metrics"]:
             _band(ax, _x(document, x_axis), series(document, metric), COLORS.get(label), NAMES.get(label, label),
-                  **(style or {}))
+                  style)
     if target is not None:
         ax.axhline(target, color="k", ls="--", lw=1, label=f"target {target} m/s")
     ax.set_title(title, fontsize=10)

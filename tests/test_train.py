@@ -8,6 +8,7 @@ import numpy as np
 from conftest import TINY_TRAIN, seed_keys
 from mjx_badger import plots, results, runner
 from mjx_badger.experiments import EXPERIMENTS, result_name
+from mjx_badger.train import TrainConfig
 
 
 def _run_all_chunks(train_fns, seeds):
@@ -86,6 +87,42 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
                                          "overview_smoke.png"]
     assert all(p.stat().st_size > 10_000 for p in written if p.suffix == ".png")
     assert "JT-OEF" in written[1].read_text()
+
+    # The same file stands in for a maximal-velocity run, only to exercise that figure and table.
+    max_path = tmp_path / "results" / "forward-max" / "jt-oef_crossq_forward-max.json"
+    max_path.parent.mkdir()
+    max_path.write_text(path.read_text())
+    written = plots.draw(tmp_path / "results", tmp_path / "figures", "smoke", ["forward-max"])
+    assert [p.name for p in written] == ["forward-max_smoke.png", "forward-max_smoke.md",
+                                         "forward-max_gait_smoke.png", "overview_smoke.png"]
+    assert "| JT-OEF | 2 x 300 | 1.3 |" in written[1].read_text()
+
+
+def test_omni_run_records_eight_evaluations_and_the_curriculum_and_draws_every_omni_figure(tmp_path):
+    config = TrainConfig(approach="cpg-d", algo="crossq", task="omni-pdec", total_steps=200, chunk_steps=100,
+                         warmup_steps=100, eval_steps=10)
+    path = tmp_path / "results" / "omni-pdec" / "cpg-d_crossq_omni-pdec.json"
+    document = runner.run(config, [0, 1], path, progress=False)
+    metrics = document["metrics"]
+    for direction in ("forward", "backward", "left", "right"):
+        for level in ("full", "half"):
+            for name in ("desired_velocity", "lateral_velocity", "yaw_rate", "desired_mae", "lateral_mae", "yaw_mae"):
+                values = np.array(metrics[f"eval/{direction}_{level}/{name}"], dtype=float)
+                assert values.shape == (2, 2) and np.isfinite(values).all()
+    assert np.array(metrics["curriculum/learned_bins"]).shape == (2, 2)
+    assert np.array(metrics["train/desired_velocity"]).shape == (2, 2)
+    assert document["gait"]["command"] == [0.5, 0.0, 0.0]
+
+    # The same file stands in for a random-command run, only to exercise the comparison figure.
+    random_path = tmp_path / "results" / "omni-random" / "cpg-d_crossq_omni-random.json"
+    random_path.parent.mkdir()
+    random_path.write_text(path.read_text())
+    written = {p.name: p for p in plots.draw(tmp_path / "results", tmp_path / "figures", "smoke")}
+    for name in ("omni-pdec_smoke.png", "omni-pdec_smoke.md", "omni-pdec_directions_smoke.png",
+                 "omni-pdec_gait_smoke.png", "omni-random_smoke.png", "omni-random_directions_smoke.png",
+                 "omni-pdec_vs_random_smoke.png", "overview_smoke.png"):
+        assert name in written, name
+    assert "| CPG-D | 2 x 200 |" in written["omni-pdec_smoke.md"].read_text()
 
 
 def test_single_seed_runs_the_unbatched_program_with_the_same_numbers(tmp_path, train_fns):
