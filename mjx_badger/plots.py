@@ -51,7 +51,7 @@ def gait_frequency(contacts, dt: float, low_hz: float = 0.5, high_hz: float = 12
     """Gait frequency (Hz): the strongest frequency of the feet's contact signals, summed over feet.
 
     A spectral peak rather than a touchdown count, so a foot that brushes the floor twice in
-    one swing does not double the figure (Hann window, zero-padded to 0.01 Hz bins).
+    one cycle does not double the figure (Hann window, zero-padded to 0.01 Hz bins).
     """
     contacts = np.asarray(contacts, dtype=float)
     signal = (contacts - contacts.mean(axis=0)) * np.hanning(len(contacts))[:, None]
@@ -61,7 +61,14 @@ def gait_frequency(contacts, dt: float, low_hz: float = 0.5, high_hz: float = 12
     band = (frequency >= low_hz) & (frequency <= high_hz)
     if not np.any(power[band] > 0):
         return float("nan")  # no foot changes contact: standing still
-    return float(frequency[band][np.argmax(power[band])])
+    peak = frequency[band][np.argmax(power[band])]
+    # Two touchdowns per cycle can make the second harmonic the strongest line: take the lowest
+    # whole fraction of the peak that still carries a third of its power, the cycle itself.
+    for divisor in (4, 3, 2):
+        near = band & (np.abs(frequency - peak / divisor) <= 0.15)
+        if peak / divisor >= low_hz and np.any(near) and power[near].max() >= power[band].max() / 3:
+            return float(frequency[near][np.argmax(power[near])])
+    return float(peak)
 
 
 def gait_frequencies(document: dict) -> list[float]:

@@ -28,3 +28,11 @@ def test_a_foot_brushing_the_floor_mid_swing_does_not_double_the_frequency():
 
 def test_standing_still_has_no_gait_frequency():
     assert np.isnan(plots.gait_frequency(np.ones((400, 4), int), DT))
+
+
+@pytest.mark.parametrize("first, second", [((0.4, 0.65), (0.8, 1.0)), ((0.5, 0.65), (0.85, 1.0))])
+def test_two_touchdowns_per_cycle_still_count_one_cycle(first, second):
+    """Stance split by a hop: the 2nd (or 3rd) harmonic is the strongest line, the cycle is still 2 Hz."""
+    phase = (T[:, None] * 2.0 + np.array([0.0, 0.5, 0.5, 0.0])) % 1.0
+    contacts = (((phase >= first[0]) & (phase < first[1])) | ((phase >= second[0]) & (phase < second[1]))).astype(int)
+    assert plots.gait_frequency(contacts, DT) == pytest.approx(2.0, abs=0.05)
