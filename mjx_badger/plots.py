@@ -237,7 +237,7 @@ def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: 
     """Fig 5.3-style: forward velocity (training, evaluation) and falls vs steps."""
     def thesis_item(a, n):
         steps = n["steps_to_target"]
-        return f"{NAMES[a]} ~{steps // 1000 if isinstance(steps, int) else steps}{'k' if isinstance(steps, int) else ''}"
+        return f"{NAMES[a]} {f'~{steps // 1000}k' if isinstance(steps, int) else steps}"
     thesis = ", ".join(thesis_item(a, n) for a, n in experiment.thesis_numbers.items()) + " steps; falls " + ", ".join(
         f"{NAMES[a]} {n['falls']}" for a, n in experiment.thesis_numbers.items())
     panels = (("train/forward_velocity", "training (mean over each 1k-step chunk)", "forward velocity [m/s]"),
