@@ -391,11 +391,16 @@ def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
         "omni-random": ("eval/desired_mae", "omni, random (Fig 5.9): desired MAE", "steps", None),
         "omni-pdec": ("eval/desired_mae", "omni, PDEC (Fig 5.12): desired MAE", "steps", None),
     }
-    shown = [name for name in headline if loaded.get(name)]
     fig, axes = plt.subplots(2, 3, figsize=(16, 9), constrained_layout=True)
     axes = axes.ravel()
-    for ax, name in zip(axes, shown):
-        metric, title, x_axis, target = headline[name]
+    for ax, (name, (metric, title, x_axis, target)) in zip(axes, headline.items()):
+        if not loaded.get(name):
+            ax.text(0.5, 0.5, f"no {name} results yet:\npython -m mjx_badger reproduce\n--profile {profile} "
+                    f"--experiments {name}", ha="center", va="center", fontsize=9, color="0.4", transform=ax.transAxes)
+            ax.set_title(title, fontsize=10)
+            ax.set_xticks([])
+            ax.set_yticks([])
+            continue
         curve_panel(ax, loaded[name], metric, title, "[m/s]", x_axis, target)
         ax.legend(fontsize=7)
     falls_ax = axes[5]
@@ -410,8 +415,6 @@ def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
     falls_ax.set_title("falls during training, mean over seeds", fontsize=10)
     falls_ax.legend(fontsize=7)
     falls_ax.grid(alpha=0.3, axis="y")
-    for ax in axes[len(shown):5]:
-        ax.axis("off")
     fig.suptitle(f"mjx_badger: every thesis simulation experiment at a glance ({profile} profile)", fontsize=12)
     return _save(fig, out)
 
