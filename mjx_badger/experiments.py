@@ -79,7 +79,7 @@ EXPERIMENTS = {
         },
         # 20 updates per step cost a CPU ~20x more per step: the quick profile gives them 5k
         # steps (4.2 simulated minutes at 20 Hz: past CrossQ's ~2 minutes, short of DroQ's 7).
-        step_caps={"quick": {"sac-utd20": 5_000, "droq": 5_000}},
+        step_caps={"quick": {"sac-utd20": 5_000, "droq": 5_000}, "smoke": {"sac-utd20": 400, "droq": 400}},
     ),
     "forward": Experiment(
         name="forward",
