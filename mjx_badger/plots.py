@@ -306,6 +306,19 @@ def _thesis(numbers: dict, key: str, fmt="~{}"):
     return fmt.format(numbers[key]) if key in numbers else "not given"
 
 
+def _run_cells(label: str, s: dict) -> str:
+    """'| name | seeds x steps' of a table row, marked when the run is incomplete."""
+    return f"| {NAMES.get(label, label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'}"
+
+
+def _falls_cell(s: dict, thesis: dict) -> str:
+    return f"{s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {_thesis(thesis, 'falls')}"
+
+
+def _gait_cell(s: dict, thesis: dict) -> str:
+    return f"{_value(s['gait_hz'], '{:.1f}')} / {_thesis(thesis, 'gait_hz')}"
+
+
 def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
     """Markdown table of our numbers beside the thesis's; time to target in steps or simulated minutes."""
     by_minutes = x_axis == "minutes"
@@ -328,8 +341,7 @@ def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> st
         lines.append(
             f"| {NAMES.get(label, label)} | {size}{'' if s['complete'] else ' (incomplete)'} | {ours} / {theirs} "
             f"| {s['final_velocity']:.2f} m/s | {_value(s['final_eval_velocity'])} m/s "
-            f"| {s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {_thesis(thesis, 'falls')} "
-            f"| {s['falls_after_warmup_mean']:.1f} | {_value(s['gait_hz'], '{:.1f}')} / {_thesis(thesis, 'gait_hz')} |")
+            f"| {_falls_cell(s, thesis)} | {s['falls_after_warmup_mean']:.1f} | {_gait_cell(s, thesis)} |")
     return "\n".join(lines) + "\n"
 
 
@@ -342,11 +354,10 @@ def max_velocity_table(experiment: Experiment, documents: dict, x_axis: str) -> 
         s = summarize(document, None)
         thesis = experiment.thesis_numbers.get(label, {})
         lines.append(
-            f"| {NAMES.get(label, label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'} "
-            f"| {_thesis(thesis, 'max_velocity', '{}')} | {s['final_velocity']:.2f} [{s['final_velocity_max']:.2f}] "
+            f"{_run_cells(label, s)} | {_thesis(thesis, 'max_velocity', '{}')} "
+            f"| {s['final_velocity']:.2f} [{s['final_velocity_max']:.2f}] "
             f"| {_value(s['final_eval_velocity'])} [{_value(s['final_eval_velocity_max'])}] "
-            f"| {s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {_thesis(thesis, 'falls')} "
-            f"| {_value(s['gait_hz'], '{:.1f}')} / {_thesis(thesis, 'gait_hz')} |")
+            f"| {_falls_cell(s, thesis)} | {_gait_cell(s, thesis)} |")
     return "\n".join(lines) + "\n"
 
 
@@ -366,10 +377,8 @@ def omni_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
                 if "curriculum/learned_bins" in document["metrics"] else "-")
         finding = thesis.get("finding", f"desired MAE ~{thesis['desired_mae']}" if "desired_mae" in thesis else "")
         lines.append(
-            f"| {NAMES.get(label, label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'} "
-            f"| {errors} | {speeds[0]} | {speeds[1]} "
-            f"| {s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {_thesis(thesis, 'falls')} "
-            f"| {bins} | {finding} |")
+            f"{_run_cells(label, s)} | {errors} | {speeds[0]} | {speeds[1]} "
+            f"| {_falls_cell(s, thesis)} | {bins} | {finding} |")
     return "\n".join(lines) + "\n"
 
 
