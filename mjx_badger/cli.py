@@ -1,4 +1,4 @@
-"""Command line: `python -m mjx_badger {train,reproduce,figures,list}`.
+"""Command line: `python -m mjx_badger {train,reproduce,figures,realtime,list}`.
 
 Every argument is checked before anything is compiled; bad input gets one message naming
 the valid choices and exit code 2.
@@ -75,6 +75,27 @@ def build_parser() -> argparse.ArgumentParser:
     figures.add_argument("--results-dir", type=Path, default=Path("results"))
     figures.add_argument("--figures-dir", type=Path, default=Path("figures"))
 
+    realtime = commands.add_parser("realtime", help="train on one robot at wall-clock rate (a simulated HB40 here)")
+    realtime.add_argument("--approach", choices=list(APPROACHES), default="jt-oef")
+    realtime.add_argument("--algo", choices=list(ALGORITHMS), default="crossq")
+    realtime.add_argument("--task", choices=list(TASKS), default="forward")
+    realtime.add_argument("--steps", type=positive_int, default=20_000, help="control steps, warm-up included")
+    realtime.add_argument("--warmup-steps", type=positive_int, default=1_000)
+    realtime.add_argument("--control-hz", type=float, default=None,
+                          help="control rate (default: the algorithm's, 40 Hz CrossQ, 20 Hz the others)")
+    realtime.add_argument("--target-velocity", type=float, default=0.25, help="forward task target (m/s)")
+    realtime.add_argument("--planned-contacts", action="store_true",
+                          help="CPG approaches: leg odometry from the planned stance legs, not all four")
+    realtime.add_argument("--reset-seconds", type=float, default=2.0,
+                          help="simulated manual reset after a safety stop (not counted as training time)")
+    realtime.add_argument("--no-sensor-noise", action="store_true", help="simulated robot: perfect sensors")
+    realtime.add_argument("--unthrottled", action="store_true",
+                          help="learner updates flat out instead of the algorithm's updates per step")
+    realtime.add_argument("--seed", type=int, default=0)
+    realtime.add_argument("--out", type=Path, default=Path("results/realtime"), help="folder for results")
+    realtime.add_argument("--restart", action="store_true", help="ignore a saved checkpoint and start over")
+    realtime.add_argument("--quiet", action="store_true", help="no live view")
+
     commands.add_parser("list", help="list approaches, algorithms, tasks, experiments and profiles")
     return parser
 
@@ -95,12 +116,48 @@ def main(argv=None) -> int:
             parser.error(f"--chunk-steps ({args.chunk_steps}) must not exceed --steps ({args.steps})")
         writable_dir(parser, args.out, "output folder")
         return train_command(args)
+    if args.command == "realtime":
+        from mjx_badger.realtime.loop import RealtimeConfig
+
+        config = RealtimeConfig(approach=args.approach, algo=args.algo, task=args.task, steps=args.steps,
+                                warmup_steps=args.warmup_steps, control_hz=args.control_hz,
+                                target_velocity=args.target_velocity, planned_contacts=args.planned_contacts,
+                                unthrottled=args.unthrottled, seed=args.seed)
+        try:
+            config.validate()
+        except ValueError as error:
+            parser.error(str(error))
+        if args.warmup_steps >= args.steps:
+            parser.error(f"--warmup-steps ({args.warmup_steps}) must be smaller than --steps ({args.steps})")
+        if args.reset_seconds < 0:
+            parser.error("--reset-seconds must not be negative")
+        writable_dir(parser, args.out, "output folder")
+        return realtime_command(args, config)
     if args.command == "reproduce":
         writable_dir(parser, args.results_dir, "results folder")
         writable_dir(parser, args.figures_dir, "figures folder")
         return reproduce_command(args)
     writable_dir(parser, args.figures_dir, "figures folder")
     return figures_command(args)
+
+
+def realtime_command(args, config) -> int:
+    from mjx_badger import plots
+    from mjx_badger.realtime import loop
+    from mjx_badger.realtime.simulated import SensorNoise, SimulatedHB40
+
+    # A real robot's adapter (interface.Robot) goes here in place of the simulated one.
+    bot = SimulatedHB40(noise=None if args.no_sensor_noise else SensorNoise(), reset_seconds=args.reset_seconds,
+                        seed=args.seed)
+    try:
+        document = loop.run(config, bot, args.out, resume=not args.restart, view=not args.quiet)
+    except ValueError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    if document["steps"]:
+        path = plots.realtime_figure(document, loop.load_trace(args.out, config), args.out / f"{config.name}.png")
+        print(f"figure: {path}")
+    return 0
 
 
 def train_command(args) -> int:

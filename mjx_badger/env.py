@@ -94,18 +94,18 @@ class EnvConfig:
 class HB40Env(Env):
     """The HB40 on flat ground with one approach (action pipeline) and one task."""
 
-    def __init__(self, approach: str = "jt-nf", task: str = "forward", config: EnvConfig | None = None):
+    def __init__(self, approach: str = "jt-nf", task: "str | tasks.Task" = "forward", config: EnvConfig | None = None):
         self.config = EnvConfig() if config is None else config
         self.action_space = actions.make_action_space(approach, self.config.control_dt)
-        self.task = tasks.make_task(task)
+        self.task = tasks.make_task(task) if isinstance(task, str) else task
         self.observation_layout = observation_layout(self.action_space)
         self.mj_model = robot.load_model(split_pd=self.action_space.split_pd)
         self.mjx_model = mjx.put_model(self.mj_model)
         self._trunk = self.mj_model.body("trunk").id
         self._feet = np.array([self.mj_model.geom(name).id for name in robot.FOOT_GEOMS])
         self._foot_radius = float(self.mj_model.geom_size[self._feet[0], 0])
-        self._accel = _sensor_slice(self.mj_model, "accelerometer")
-        self._gyro = _sensor_slice(self.mj_model, "gyro")
+        self._accel = robot.sensor_slice(self.mj_model, "accelerometer")
+        self._gyro = robot.sensor_slice(self.mj_model, "gyro")
         data = mujoco.MjData(self.mj_model)
         data.qpos[:] = robot.standing_qpos(self.mj_model)
         data.ctrl[:] = self.action_space.rest_ctrl()
@@ -250,29 +250,30 @@ class HB40Env(Env):
         gravity = rot.T @ jnp.array([0.0, 0.0, -1.0])
         roll = jnp.arctan2(rot[2, 1], rot[2, 2])
         pitch = jnp.arcsin(jnp.clip(-rot[2, 0], -1.0, 1.0))
+        obs = self.observation(data.qpos[7:], data.qvel[6:], action_state, data.sensordata[self._accel], gyro,
+                               prev_gyro, linear_velocity, command, gravity)
+        motion = tasks.Motion(linear_velocity, gyro, roll, pitch, data.qfrc_actuator[6:])
+        return obs, motion
+
+    def observation(self, joint_angle, joint_velocity, action_state, acceleration, angular_velocity,
+                    prev_angular_velocity, linear_velocity, command, gravity):
+        """The Table 4.1 observation from measured quantities; the on-robot loop builds it the same way."""
         predicted, extra = self.action_space.observe(action_state)
-        obs = jnp.concatenate([
-            data.qpos[7:] - self._nominal,
-            data.qvel[6:],
+        return jnp.concatenate([
+            joint_angle - self._nominal,
+            joint_velocity,
             predicted,
-            data.sensordata[self._accel],
-            (gyro - prev_gyro) / self.config.control_dt,
+            acceleration,
+            (angular_velocity - prev_angular_velocity) / self.config.control_dt,
             linear_velocity,
-            gyro,
+            angular_velocity,
             command,
             gravity,
             extra,
         ]) * self._obs_scale
-        motion = tasks.Motion(linear_velocity, gyro, roll, pitch, data.qfrc_actuator[6:])
-        return obs, motion
 
     def _metric_names(self):
         names = [f"reward/{name}" for name in self.task.weights]
         names += ["forward_velocity", "lateral_velocity", "yaw_rate", "height", "desired_velocity",
                   "command_lateral_velocity", "desired_error"]
         return names + list(self.task.progress(self.task.init()))
-
-
-def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:
-    sensor = model.sensor(name)
-    return slice(int(sensor.adr[0]), int(sensor.adr[0] + sensor.dim[0]))

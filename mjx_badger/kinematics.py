@@ -19,6 +19,9 @@ THIGH_OFFSET_Y = 0.0125
 # Per leg (FL, FR, RL, RR): +1 front / -1 rear, +1 left / -1 right.
 FRONT_SIGN = np.array([1.0, 1.0, -1.0, -1.0])
 LEFT_SIGN = np.array([1.0, -1.0, 1.0, -1.0])
+HIP_X, HIP_Y = 0.1375, 0.064
+HIP_POSITIONS = np.stack([FRONT_SIGN * HIP_X, LEFT_SIGN * HIP_Y, np.zeros(4)], axis=-1)
+"""Hip (abduction) joints in the trunk frame (4, 3); a foot in the trunk frame is this + forward()."""
 JOINT_LOWER = np.tile([-1.57, -1.57, -2.53], 4).reshape(4, 3)
 JOINT_UPPER = np.tile([1.57, 1.57, 0.0], 4).reshape(4, 3)
 

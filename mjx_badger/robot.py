@@ -73,3 +73,9 @@ def set_pd_gains(model, kp: float, kd: float):
         model.actuator_biasprm[:] = bias
         return model
     return model.replace(actuator_gainprm=gain, actuator_biasprm=bias)
+
+
+def sensor_slice(model: mujoco.MjModel, name: str) -> slice:
+    """Where the sensor `name` sits in `sensordata`."""
+    sensor = model.sensor(name)
+    return slice(int(sensor.adr[0]), int(sensor.adr[0] + sensor.dim[0]))

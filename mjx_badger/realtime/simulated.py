@@ -1,0 +1,156 @@
+"""A simulated HB40 behind the `Robot` protocol: native MuJoCo at 200 Hz, paced to wall-clock.
+
+The physics runs in its own thread, like the robot's own controller, and exposes only what
+the real robot's sensors give (with their noise); `truth()` is for logging and figures and
+is not part of the protocol, so the loop cannot learn from it.
+"""
+
+import dataclasses
+import threading
+import time
+
+import mujoco
+import numpy as np
+
+from mjx_badger import robot
+from mjx_badger.realtime.interface import Sensors
+
+
+@dataclasses.dataclass(frozen=True)
+class SensorNoise:
+    """Standard deviations of the sensor noise (zero-mean Gaussian, new every physics step)."""
+
+    joint_angle: float = 0.001
+    """rad; 14-bit encoders resolve ~0.0004 rad, plus backlash."""
+    joint_velocity: float = 0.05
+    """rad/s; velocities come from differentiated encoder counts."""
+    joint_torque: float = 0.1
+    acceleration: float = 0.1
+    angular_velocity: float = 0.01
+    gyro_bias: float = 0.005
+    """rad/s; drawn once per robot start, constant afterwards."""
+    orientation: float = 0.002
+    """Per quaternion component, renormalised."""
+
+
+class SimulatedHB40:
+    """The HB40 in native MuJoCo with its physics thread; implements `interface.Robot`."""
+
+    def __init__(self, noise: SensorNoise | None = SensorNoise(), reset_seconds: float = 2.0, seed: int = 0):
+        self.model = robot.load_model()
+        self.data = mujoco.MjData(self.model)
+        self.noise = noise
+        self.reset_seconds = reset_seconds
+        self.physics_dt = float(self.model.opt.timestep)
+        self.late_physics_steps = 0
+        self.damp_calls = 0
+        self._rng = np.random.default_rng(seed)
+        self._gyro_bias = np.zeros(3)
+        self._lock = threading.Lock()
+        self._running = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._gains = (robot.KP, robot.KD)
+        self._applied_gains = None
+        self._targets = np.asarray(robot.NOMINAL_POSE, dtype=np.float64)
+        self._trunk = self.model.body("trunk").id
+        self._accel = robot.sensor_slice(self.model, "accelerometer")
+        self._gyro = robot.sensor_slice(self.model, "gyro")
+        self._quat = robot.sensor_slice(self.model, "orientation")
+        self._sensors: Sensors | None = None
+        self._stand()
+
+    # The Robot protocol.
+    def start(self) -> None:
+        if self._thread is not None:
+            return
+        if self.noise is not None:
+            self._gyro_bias = self._rng.normal(0.0, self.noise.gyro_bias, 3)
+        self._running.set()
+        self._thread = threading.Thread(target=self._physics_loop, name="hb40-physics", daemon=True)
+        self._thread.start()
+
+    def read(self) -> Sensors:
+        with self._lock:
+            return self._sensors
+
+    def command(self, targets, kp: float, kd: float) -> None:
+        with self._lock:
+            self._targets = np.asarray(targets, dtype=np.float64).copy()
+            self._gains = (float(kp), float(kd))
+
+    def damp(self) -> None:
+        with self._lock:
+            self._gains = (robot.DAMPING_KP, robot.DAMPING_KD)
+            self.damp_calls += 1
+
+    def reset(self) -> None:
+        time.sleep(self.reset_seconds)  # the operator walks over and stands the robot up
+        with self._lock:
+            self._stand()
+
+    def stop(self) -> None:
+        self.damp()
+        self._running.clear()
+        if self._thread is not None:
+            self._thread.join()
+            self._thread = None
+
+    # Simulation only: ground truth for logs, and a hand on the robot for tests.
+    @property
+    def gains(self) -> tuple[float, float]:
+        with self._lock:
+            return self._gains
+
+    def truth(self) -> dict:
+        """Trunk-frame linear velocity (3,), world position (3,) and roll, pitch of the simulated trunk."""
+        with self._lock:
+            rot = self.data.xmat[self._trunk].reshape(3, 3)
+            return {"linear_velocity": rot.T @ self.data.qvel[:3], "position": self.data.qpos[:3].copy(),
+                    "height": float(self.data.qpos[2])}
+
+    def tip(self, roll: float) -> None:
+        """Roll the trunk to `roll` (rad) in place, as a push would."""
+        with self._lock:
+            self.data.qpos[3:7] = [np.cos(roll / 2), np.sin(roll / 2), 0.0, 0.0]
+            mujoco.mj_forward(self.model, self.data)
+            self._sensors = self._measure()
+
+    def _stand(self):
+        mujoco.mj_resetData(self.model, self.data)
+        self.data.qpos[:] = robot.standing_qpos(self.model)
+        self._targets = np.asarray(robot.NOMINAL_POSE, dtype=np.float64)
+        self._gains = (robot.KP, robot.KD)
+        self.data.ctrl[:] = self._targets
+        mujoco.mj_forward(self.model, self.data)
+        self._sensors = self._measure()
+
+    def _physics_loop(self):
+        next_tick = time.perf_counter()
+        while self._running.is_set():
+            with self._lock:
+                if self._gains != self._applied_gains:
+                    robot.set_pd_gains(self.model, *self._gains)
+                    self._applied_gains = self._gains
+                self.data.ctrl[:] = self._targets
+                mujoco.mj_step(self.model, self.data)
+                self._sensors = self._measure()
+            next_tick += self.physics_dt
+            delay = next_tick - time.perf_counter()
+            if delay > 0:
+                time.sleep(delay)
+            elif delay < -self.physics_dt:
+                # More than a step behind: count it and pick up from now rather than race to catch up.
+                self.late_physics_steps += 1
+                next_tick = time.perf_counter()
+
+    def _measure(self) -> Sensors:
+        d, noise = self.data, self.noise
+        values = dict(
+            joint_angle=d.qpos[7:].copy(), joint_velocity=d.qvel[6:].copy(), joint_torque=d.actuator_force[:12].copy(),
+            acceleration=d.sensordata[self._accel].copy(), angular_velocity=d.sensordata[self._gyro] + self._gyro_bias,
+            orientation=d.sensordata[self._quat].copy())
+        if noise is not None:
+            for name, value in values.items():
+                values[name] = value + self._rng.normal(0.0, getattr(noise, name), value.shape)
+            values["orientation"] /= np.linalg.norm(values["orientation"])
+        return Sensors(time=float(d.time), **values)
