@@ -13,6 +13,7 @@ resumes from them.
 """
 
 import dataclasses
+import functools
 import json
 import signal
 import sys
@@ -182,6 +183,7 @@ class Progress:
         self.action_state = None
 
 
+@functools.lru_cache(maxsize=4)
 def build(config: RealtimeConfig):
     """Environment (observation, action pipeline, task), agent and the two jitted functions."""
     config.validate()

@@ -1,0 +1,179 @@
+"""The on-robot loop: estimator, safety monitor, the loop end to end, stop and resume."""
+
+import dataclasses
+import os
+import signal
+
+import numpy as np
+import pytest
+
+from mjx_badger import kinematics, robot
+from mjx_badger.agents import ALGORITHMS
+from mjx_badger.realtime import safety
+from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
+from mjx_badger.realtime.interface import Sensors
+from mjx_badger.realtime.loop import RealtimeConfig, run
+from mjx_badger.realtime.simulated import SimulatedHB40
+
+LEVEL = np.array([1.0, 0.0, 0.0, 0.0])
+
+
+def standing_trajectory(velocity, dt, seconds, swinging_leg=None, noise=0.0, seed=0):
+    """Sensor readings of a level trunk moving at velocity(t) (3,) over feet fixed on the ground.
+
+    `swinging_leg` moves that foot forward at 0.3 m/s in the world instead (a swing the
+    all-feet contact assumption does not know about).
+    """
+    rng = np.random.default_rng(seed)
+    times = np.arange(0.0, seconds, dt)
+    fine = 20  # integrate the trunk position more finely than the control period
+    feet_world = kinematics.HIP_POSITIONS + kinematics.NOMINAL_FEET
+    readings, truth, position = [], [], np.zeros(3)
+
+    def angles_at(position, t):
+        feet = feet_world - position
+        if swinging_leg is not None:
+            feet[swinging_leg, 0] += 0.3 * t
+        return np.asarray(kinematics.inverse(feet - kinematics.HIP_POSITIONS)).reshape(-1)
+
+    for t in times:
+        v = velocity(t)
+        eps = 1e-4
+        acceleration = (velocity(t + eps) - velocity(t - eps)) / (2 * eps)
+        q = angles_at(position, t)
+        q_next = angles_at(position + v * eps, t + eps)
+        q_prev = angles_at(position - v * eps, t - eps)
+        qd = (q_next - q_prev) / (2 * eps)
+        readings.append(Sensors(
+            time=t, joint_angle=q, joint_velocity=qd + rng.normal(0, noise, 12), joint_torque=np.zeros(12),
+            acceleration=acceleration + [0.0, 0.0, 9.81] + rng.normal(0, 10 * noise, 3),
+            angular_velocity=np.zeros(3), orientation=LEVEL))
+        truth.append(v)
+        for k in range(fine):
+            position = position + velocity(t + k * dt / fine) * dt / fine
+    return readings, np.asarray(truth)
+
+
+def test_leg_odometry_of_a_still_robot_is_zero():
+    sensors = Sensors(0.0, np.asarray(robot.NOMINAL_POSE), np.zeros(12), np.zeros(12), np.array([0, 0, 9.81]),
+                      np.zeros(3), LEVEL)
+    np.testing.assert_allclose(leg_odometry(sensors), 0.0, atol=1e-7)
+
+
+def test_estimator_tracks_a_known_velocity():
+    # Swaying 0.3 m/s forward and back, 0.1 m/s sideways (the feet stay within reach); 40 Hz,
+    # noisy encoders and IMU.
+    velocity = lambda t: np.array([0.3 * np.cos(3 * t), 0.1 * np.cos(2 * t), 0.0])
+    readings, truth = standing_trajectory(velocity, 0.025, 4.0, noise=0.02)
+    estimator = VelocityEstimator()
+    estimates = np.array([estimator.update(s, 0.025) for s in readings])
+    settled = slice(20, None)  # after 0.5 s
+    error = estimates[settled] - truth[settled]
+    assert np.sqrt(np.mean(error**2)) < 0.03
+    assert np.max(np.abs(error)) < 0.1
+
+
+def test_all_feet_contact_assumption_biases_low_and_planned_contacts_fix_it():
+    # At 0.2 m/s, one foot swings forward at 0.3 m/s: assumed on the ground it implies -0.1 m/s,
+    # so the four-feet mean reads (3 x 0.2 - 0.1) / 4 = 0.125; told it swings, the estimator ignores it.
+    velocity = lambda t: np.array([0.2, 0.0, 0.0])
+    readings, truth = standing_trajectory(velocity, 0.025, 1.0, swinging_leg=0)
+    assumed, planned = VelocityEstimator(), VelocityEstimator()
+    stance = np.array([False, True, True, True])
+    all_feet = np.array([assumed.update(s, 0.025) for s in readings])[20:, 0]
+    known = np.array([planned.update(s, 0.025, stance) for s in readings])[20:, 0]
+    assert abs(np.mean(all_feet) - 0.125) < 0.02
+    np.testing.assert_allclose(known, 0.2, atol=0.02)
+
+
+def test_safety_trips_on_tilt_and_joint_limits():
+    bot = SimulatedHB40(noise=None)
+    assert safety.check(bot.read()) is None
+    bot.tip(roll=1.0)
+    assert safety.check(bot.read()).startswith("roll")
+    bent = bot.read()
+    angles = np.asarray(robot.NOMINAL_POSE).copy()
+    angles[2] = 0.2  # a knee straightened past its stop at 0 rad
+    over = Sensors(bent.time, angles, bent.joint_velocity, bent.joint_torque, bent.acceleration,
+                   bent.angular_velocity, LEVEL)
+    assert "FL_knee" in safety.check(over)
+
+
+class Recording(SimulatedHB40):
+    """The simulated HB40 with a hand that tips it over at `tip_at` reads, and a log of the gains at reset."""
+
+    def __init__(self, tip_at=None, **kwargs):
+        super().__init__(**kwargs)
+        self.tip_at, self.reads, self.gains_at_reset = tip_at, 0, []
+
+    def read(self):
+        self.reads += 1
+        if self.reads == self.tip_at:
+            self.tip(roll=1.2)
+        return super().read()
+
+    def reset(self):
+        self.gains_at_reset.append(self.gains)
+        super().reset()
+
+
+# Small and slow enough for a test: 20 Hz, a 32x32 CrossQ, 20 warm-up steps, 1 s evaluation.
+TINY = RealtimeConfig(approach="jt-oef", algo="crossq", steps=40, warmup_steps=20, control_hz=20.0,
+                      eval_seconds=1.0, agent=ALGORITHMS["crossq"]().replace(hidden=(32, 32), batch_size=16))
+
+
+def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path):
+    bot = Recording(tip_at=10, reset_seconds=0.1)
+    document = run(TINY, bot, tmp_path, resume=False, view=False)
+    assert document["complete"] and document["steps"] == TINY.steps
+    assert document["falls"] >= 1
+    assert bot.gains_at_reset[0] == (robot.DAMPING_KP, robot.DAMPING_KD)
+    # The learner ran concurrently: one update per learning step, capped by the replay ratio.
+    assert 0 < document["updates"] <= TINY.steps - TINY.warmup_steps
+    assert document["timing"]["ticks"] >= TINY.steps
+    assert document["evaluation"]["seconds"] > 0
+    trace = np.load(tmp_path / f"{TINY.name}.trace.npy")
+    assert trace.shape[0] == TINY.steps and trace[:, 7].sum() == document["falls"]
+    assert np.isfinite(trace[:, 2]).all() and np.isfinite(trace[:, 4]).all()
+
+
+class Interrupting(SimulatedHB40):
+    """The simulated HB40, and an operator who presses Ctrl-C at the `at`-th sensor read."""
+
+    def __init__(self, at, **kwargs):
+        super().__init__(**kwargs)
+        self.at, self.reads = at, 0
+
+    def read(self):
+        self.reads += 1
+        if self.reads == self.at:
+            os.kill(os.getpid(), signal.SIGINT)
+        return super().read()
+
+
+def test_stop_and_resume_keep_the_replay_buffer_and_step_count(tmp_path):
+    config = dataclasses.replace(TINY, steps=60, eval_seconds=0.0)
+    bot = Interrupting(at=30, reset_seconds=0.1)
+    stopped = run(config, bot, tmp_path, view=False)
+    assert not stopped["complete"] and 0 < stopped["steps"] < config.steps
+    assert bot.damp_calls >= 1
+    checkpoint = tmp_path / f"{config.name}.checkpoint"
+    saved = np.load(checkpoint / "replay.npz")
+    assert int(saved["size"]) == stopped["steps"]
+    first_obs = saved["obs"][: stopped["steps"]].copy()
+
+    resumed = run(config, SimulatedHB40(reset_seconds=0.1), tmp_path, view=False)
+    assert resumed["complete"] and resumed["steps"] == config.steps
+    after = np.load(checkpoint / "replay.npz")
+    assert int(after["size"]) == config.steps
+    np.testing.assert_array_equal(after["obs"][: stopped["steps"]], first_obs)
+    assert resumed["falls"] >= stopped["falls"] and resumed["updates"] >= stopped["updates"]
+    with pytest.raises(ValueError, match="other settings"):
+        run(dataclasses.replace(config, seed=1), SimulatedHB40(), tmp_path, view=False)
+
+
+def test_bad_settings_are_refused_before_anything_compiles():
+    with pytest.raises(ValueError, match="cpg-rt-avg"):
+        RealtimeConfig(approach="cpg-rt").validate()
+    with pytest.raises(ValueError, match="planned contacts"):
+        RealtimeConfig(approach="jt-oef", planned_contacts=True).validate()
