@@ -29,6 +29,7 @@ figures: install
 benchmark: install
 	$(PY) benchmarks/bench_spine.py
 	$(PY) benchmarks/bench_algorithms.py
+	$(PY) benchmarks/bench_realtime.py
 
 clean:
 	rm -rf $(VENV) results .pytest_cache

@@ -266,6 +266,10 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     episode_steps = int(round(config.episode_seconds * config.hz))
     timing = {"periods": [], "late": 0, "ticks": 0}
     started = results.now()
+    # Python hands the GIL between threads every 5 ms by default; the control thread waking for
+    # its deadline must not wait that long behind the learner's or the physics' Python code.
+    switch_interval = sys.getswitchinterval()
+    sys.setswitchinterval(0.0002)
     bot.start()
     learner.start()
     view_line = _View(view, config, progress, learner, timing, bot)
@@ -281,6 +285,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
         bot.damp()  # safety first: motors soft before anything is saved
         learner.halt.set()
         learner.join()
+        sys.setswitchinterval(switch_interval)
         if previous_handler is not None:
             signal.signal(signal.SIGINT, previous_handler)
         view_line.close()
