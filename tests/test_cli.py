@@ -90,3 +90,10 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
     assert cli.main(["reproduce", "--profile", "smoke", "--experiments", "forward",
                      "--results-dir", str(tmp_path), "--figures-dir", str(tmp_path / "fig")]) == 0
     assert ran == ["jt-lpf_crossq_forward.json", "jt-oef_crossq_forward.json"]
+
+
+def test_realtime_refuses_what_a_robot_cannot_run(capsys):
+    assert "cpg-rt-avg" in _fails(capsys, ["realtime", "--approach", "cpg-rt"])
+    assert "planned contacts" in _fails(capsys, ["realtime", "--approach", "jt-oef", "--planned-contacts"])
+    assert "--warmup-steps" in _fails(capsys, ["realtime", "--steps", "100", "--warmup-steps", "200"])
+    assert "control rate" in _fails(capsys, ["realtime", "--control-hz", "500"])
