@@ -3,6 +3,7 @@
 import dataclasses
 import os
 import signal
+import time
 
 import numpy as np
 import pytest
@@ -177,3 +178,17 @@ def test_bad_settings_are_refused_before_anything_compiles():
         RealtimeConfig(approach="cpg-rt").validate()
     with pytest.raises(ValueError, match="planned contacts"):
         RealtimeConfig(approach="jt-oef", planned_contacts=True).validate()
+
+
+def test_simulated_robot_is_paced_to_the_wall_clock_and_stands():
+    bot = SimulatedHB40(noise=None)
+    bot.start()
+    try:
+        time.sleep(1.0)
+        reading = bot.read()
+    finally:
+        bot.stop()
+    # Free-running, native MuJoCo would simulate ~40 s in this second; paced, about one.
+    assert 0.5 < reading.time < 1.5
+    assert safety.check(reading) is None and abs(bot.truth()["height"] - robot.STANDING_HEIGHT) < 0.05
+    assert bot.gains == (robot.DAMPING_KP, robot.DAMPING_KD)  # stop() leaves it damped
