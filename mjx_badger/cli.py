@@ -45,14 +45,19 @@ def writable_dir(parser: argparse.ArgumentParser, path: Path, what: str) -> Path
     return path
 
 
+def add_configuration_arguments(parser: argparse.ArgumentParser) -> None:
+    """--approach, --algo and --task, shared by the commands that train one configuration."""
+    parser.add_argument("--approach", choices=list(APPROACHES), default="jt-oef")
+    parser.add_argument("--algo", choices=list(ALGORITHMS), default="crossq")
+    parser.add_argument("--task", choices=list(TASKS), default="forward")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m mjx_badger", description=__doc__.splitlines()[0])
     commands = parser.add_subparsers(dest="command", required=True)
 
     train = commands.add_parser("train", help="train one configuration over many seeds in one vmapped program")
-    train.add_argument("--approach", choices=list(APPROACHES), default="jt-oef")
-    train.add_argument("--algo", choices=list(ALGORITHMS), default="crossq")
-    train.add_argument("--task", choices=list(TASKS), default="forward")
+    add_configuration_arguments(train)
     train.add_argument("--seeds", type=positive_int, default=3, help="number of seeds, run in parallel")
     train.add_argument("--first-seed", type=int, default=0)
     train.add_argument("--steps", type=positive_int, default=50_000, help="environment steps per seed")
@@ -76,9 +81,7 @@ def build_parser() -> argparse.ArgumentParser:
     figures.add_argument("--figures-dir", type=Path, default=Path("figures"))
 
     realtime = commands.add_parser("realtime", help="train on one robot at wall-clock rate (a simulated HB40 here)")
-    realtime.add_argument("--approach", choices=list(APPROACHES), default="jt-oef")
-    realtime.add_argument("--algo", choices=list(ALGORITHMS), default="crossq")
-    realtime.add_argument("--task", choices=list(TASKS), default="forward")
+    add_configuration_arguments(realtime)
     realtime.add_argument("--steps", type=positive_int, default=20_000, help="control steps, warm-up included")
     realtime.add_argument("--warmup-steps", type=positive_int, default=1_000)
     realtime.add_argument("--control-hz", type=float, default=None,
