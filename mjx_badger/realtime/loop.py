@@ -14,6 +14,7 @@ resumes from them.
 
 import dataclasses
 import functools
+import gc
 import json
 import signal
 import sys
@@ -170,14 +171,16 @@ class Learner(threading.Thread):
 class Progress:
     """Counters of the run, kept in the checkpoint so a resumed run continues them."""
 
-    def __init__(self):
+    def __init__(self, steps: int):
         self.step = 0
         self.falls = 0
         self.episodes = 0
         self.train_seconds = 0.0
         self.reset_seconds = 0.0
         self.rows: list[dict] = []
-        self.trace: list[tuple] = []  # one TRACE row per step
+        # One TRACE row per step, preallocated: a growing list of tuples would be more objects for
+        # every garbage collection pass to walk while the robot waits.
+        self.trace = np.full((steps, len(TRACE)), np.nan)
         self.task_state = None
         self.key = None
         self.action_state = None
@@ -242,7 +245,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     agent_state = agent.init(agent_key)
     task_state = task.init()
     buffer = HostReplay(config.steps, env.observation_size, env.action_size)
-    progress = Progress()
+    progress = Progress(config.steps)
     learner_updates = 0
     if resume and (checkpoint / "state.msgpack").exists():
         agent_state, task_state, key, learner_updates = _load(checkpoint, config, agent_state, task_state, key,
@@ -252,6 +255,11 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     compile_start = time.perf_counter()
     _compile(env, tick, evaluate_tick, update, agent_state, task_state, buffer, config.agent_config.batch_size)
     compile_s = time.perf_counter() - compile_start
+    # What is built by now (JAX, flax, MuJoCo: ~200k objects) lives as long as the run. Freeze it
+    # out of the collector's reach: a full collection over it holds the GIL ~100 ms on this CPU,
+    # four control periods.
+    gc.collect()
+    gc.freeze()
 
     def allowed(updates):
         learning_steps = progress.step - config.warmup_steps
@@ -286,6 +294,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
         learner.halt.set()
         learner.join()
         sys.setswitchinterval(switch_interval)
+        gc.unfreeze()
         if previous_handler is not None:
             signal.signal(signal.SIGINT, previous_handler)
         view_line.close()
@@ -296,7 +305,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     _save(checkpoint, config, learner.state, task_state, key, learner.updates, buffer, progress)
     document = _document(config, progress, timing, learner, compile_s, started, complete, evaluation)
     results.write(out_dir / f"{config.name}.json", document)
-    np.save(out_dir / f"{config.name}.trace.npy", np.asarray(progress.trace, np.float32).reshape(-1, len(TRACE)))
+    np.save(out_dir / f"{config.name}.trace.npy", progress.trace[:progress.step].astype(np.float32))
     _say(view, f"{'finished' if complete else 'stopped'} at step {progress.step}: {out_dir / config.name}.json"
                + ("" if complete else f"; run again to resume from {checkpoint}"))
     return document
@@ -342,8 +351,9 @@ def _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_
             buffer.add(previous[0], previous[1], reward, obs, 0.0 if trip else 1.0)
             progress.step += 1
             truth = bot.truth()["linear_velocity"] if hasattr(bot, "truth") else (np.nan,) * 3
-            progress.trace.append((progress.step, progress.train_seconds + time.perf_counter() - episode_start,
-                                   reading.velocity[0], reading.velocity[1], truth[0], truth[1], reward, bool(trip)))
+            progress.trace[progress.step - 1] = (progress.step, progress.train_seconds + time.perf_counter()
+                                                 - episode_start, reading.velocity[0], reading.velocity[1], truth[0],
+                                                 truth[1], reward, bool(trip))
             if progress.step % LOG_EVERY_STEPS == 0:
                 progress.train_seconds += time.perf_counter() - episode_start
                 episode_start = time.perf_counter()
@@ -376,7 +386,7 @@ def _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_
 
 def _row(progress: Progress, learner: Learner) -> dict:
     """One results row: means over the last LOG_EVERY_STEPS steps."""
-    recent = np.asarray(progress.trace[-LOG_EVERY_STEPS:], np.float64)
+    recent = progress.trace[max(progress.step - LOG_EVERY_STEPS, 0):progress.step]
     return {"step": progress.step, "train_minutes": progress.train_seconds / 60,
             "estimated_velocity": float(recent[:, 2].mean()), "true_velocity": float(np.nanmean(recent[:, 4]))
             if np.isfinite(recent[:, 4]).any() else None,
@@ -497,7 +507,7 @@ def _save(checkpoint: Path, config, agent_state, task_state, key, updates, buffe
     state = {"agent": agent_state, "task_state": task_state, "key": key}
     (checkpoint / "state.msgpack").write_bytes(flax.serialization.to_bytes(state))
     buffer.save(checkpoint / "replay.npz")
-    np.save(checkpoint / "trace.npy", np.asarray(progress.trace, np.float64).reshape(-1, len(TRACE)))
+    np.save(checkpoint / "trace.npy", progress.trace[:progress.step])
     counters = {"settings": _settings(config), "step": progress.step, "falls": progress.falls, "episodes": progress.episodes, "updates": updates,
                 "train_seconds": progress.train_seconds, "reset_seconds": progress.reset_seconds,
                 "rows": progress.rows}
@@ -514,7 +524,8 @@ def _load(checkpoint: Path, config, agent_state, task_state, key, buffer, progre
     buffer.load(checkpoint / "replay.npz")
     for name in ("step", "falls", "episodes", "train_seconds", "reset_seconds", "rows"):
         setattr(progress, name, counters[name])
-    progress.trace = [tuple(row) for row in np.load(checkpoint / "trace.npy")]
+    done = np.load(checkpoint / "trace.npy")
+    progress.trace[:len(done)] = done
     return state["agent"], state["task_state"], state["key"], counters["updates"]
 
 
@@ -544,7 +555,8 @@ class _View:
         if not self.enabled or now - self.last < self.every_s:
             return
         self.last = now
-        p, recent = self.progress, np.asarray(self.progress.trace[-int(self.config.hz):], np.float64)
+        p = self.progress
+        recent = p.trace[max(p.step - int(self.config.hz), 0):p.step]
         periods = np.asarray(self.timing["periods"][-2000:]) * 1000
         rate = (p.step - self.start_step) / max(now - self.start, 1e-9)
         eta = (self.config.steps - p.step) / max(rate, 1e-9)
