@@ -3,17 +3,19 @@
 import dataclasses
 import os
 import signal
+import threading
 import time
 
+import jax
 import numpy as np
 import pytest
 
 from mjx_badger import kinematics, robot
 from mjx_badger.agents import ALGORITHMS
-from mjx_badger.realtime import safety
+from mjx_badger.realtime import safety, scheduling
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
 from mjx_badger.realtime.interface import Sensors
-from mjx_badger.realtime.loop import RealtimeConfig, run
+from mjx_badger.realtime.loop import Learner, RealtimeConfig, run
 from mjx_badger.realtime.simulated import SimulatedHB40
 
 LEVEL = np.array([1.0, 0.0, 0.0, 0.0])
@@ -131,7 +133,11 @@ def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path)
     assert bot.gains_at_reset[0] == (robot.DAMPING_KP, robot.DAMPING_KD)
     # The learner ran concurrently: one update per learning step, capped by the replay ratio.
     assert 0 < document["updates"] <= TINY.steps - TINY.warmup_steps
-    assert document["timing"]["ticks"] >= TINY.steps
+    timing = document["timing"]
+    assert timing["ticks"] >= TINY.steps
+    assert timing["scheduling"] in ("SCHED_FIFO", "ordinary, compute threads niced")
+    assert 0 < timing["work_p50_ms"] <= timing["work_max_ms"] < 1000 / TINY.hz
+    assert not scheduling.is_realtime()  # the caller's thread is ordinary again afterwards
     assert document["evaluation"]["seconds"] > 0
     trace = np.load(tmp_path / f"{TINY.name}.trace.npy")
     assert trace.shape[0] == TINY.steps and trace[:, 7].sum() == document["falls"]
@@ -192,3 +198,33 @@ def test_simulated_robot_is_paced_to_the_wall_clock_and_stands():
     assert 0.5 < reading.time < 1.5
     assert safety.check(reading) is None and abs(bot.truth()["height"] - robot.STANDING_HEIGHT) < 0.05
     assert bot.gains == (robot.DAMPING_KP, robot.DAMPING_KD)  # stop() leaves it damped
+
+
+def test_realtime_scheduling_is_taken_where_allowed_and_given_back():
+    seen = {}
+
+    def thread():
+        seen["granted"] = scheduling.raise_to_realtime()
+        seen["during"] = scheduling.is_realtime()
+        scheduling.back_to_normal()
+        seen["after"] = scheduling.is_realtime()
+
+    worker = threading.Thread(target=thread)
+    worker.start()
+    worker.join()
+    assert seen["during"] == seen["granted"] and not seen["after"]
+
+
+def test_an_idle_learner_sleeps_until_a_step_is_stored():
+    asked = []
+    learner = Learner(update=None, state=None, buffer=None, batch_size=1, key=jax.random.PRNGKey(0),
+                      allowed=lambda updates: asked.append(updates) or False)
+    learner.start()
+    time.sleep(0.35)
+    woken = len(asked)
+    learner.new_step.set()
+    time.sleep(0.05)
+    learner.stop()
+    # A 0.1 s timeout wakes it ~4 times in 0.35 s (polling every 0.5 ms would ask ~700 times),
+    # and a stored step wakes it at once.
+    assert 1 <= woken <= 8 and len(asked) > woken

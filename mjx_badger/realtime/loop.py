@@ -16,7 +16,6 @@ import dataclasses
 import functools
 import gc
 import json
-import os
 import signal
 import sys
 import threading
@@ -33,7 +32,7 @@ from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS, AgentConfig, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
-from mjx_badger.realtime import safety
+from mjx_badger.realtime import safety, scheduling
 from mjx_badger.realtime.estimation import KalmanConfig, VelocityEstimator, leg_odometry
 from mjx_badger.realtime.interface import Robot, Sensors, roll_pitch, rotation_matrix
 
@@ -154,13 +153,21 @@ class Learner(threading.Thread):
         self.updates = updates
         self.metrics = {}
         self.halt = threading.Event()
+        self.new_step = threading.Event()
         self._rng = np.random.default_rng(int(jax.random.randint(key, (), 0, 2**31 - 1)))
 
+    def stop(self):
+        self.halt.set()
+        self.new_step.set()
+        self.join()
+
     def run(self):
-        _lower_priority(threading.get_native_id())
         while not self.halt.is_set():
             if not self.allowed(self.updates):
-                time.sleep(0.0005)
+                # Sleep until the control thread stores a step: polling would take the GIL
+                # thousands of times a second from the thread that must wake on time.
+                self.new_step.wait(0.1)
+                self.new_step.clear()
                 continue
             batch = self.buffer.sample(self._rng, self.batch_size)
             state, metrics = self.update(self.state, batch, jax.random.fold_in(self.key, self.updates),
@@ -262,6 +269,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     # four control periods.
     gc.collect()
     gc.freeze()
+    realtime = scheduling.raise_to_realtime()
 
     def allowed(updates):
         learning_steps = progress.step - config.warmup_steps
@@ -274,16 +282,16 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     estimator = VelocityEstimator(kalman)
     period = 1.0 / config.hz
     episode_steps = int(round(config.episode_seconds * config.hz))
-    timing = {"periods": [], "late": 0, "ticks": 0}
+    timing = {"periods": [], "work": [], "late": 0, "ticks": 0,
+              "scheduling": "SCHED_FIFO" if realtime else "ordinary, compute threads niced"}
     started = results.now()
     # Python hands the GIL between threads every 5 ms by default; the control thread waking for
     # its deadline must not wait that long behind the learner's or the physics' Python code.
     switch_interval = sys.getswitchinterval()
     sys.setswitchinterval(0.0002)
     bot.start()
-    for thread_id in _xla_threads():
-        _lower_priority(thread_id)
     learner.start()
+    scheduling.nice_compute_threads()
     view_line = _View(view, config, progress, learner, timing, bot)
     try:
         fresh = True
@@ -295,17 +303,20 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
             task_state, key = progress.task_state, progress.key
     finally:
         bot.damp()  # safety first: motors soft before anything is saved
-        learner.halt.set()
-        learner.join()
-        sys.setswitchinterval(switch_interval)
+        learner.stop()
         gc.unfreeze()
         if previous_handler is not None:
             signal.signal(signal.SIGINT, previous_handler)
         view_line.close()
-    complete = progress.step >= config.steps
-    evaluation = _evaluate(config, bot, env, evaluate_tick, learner.state, task, key, estimator) if (
-        complete and config.eval_seconds > 0) else None
-    bot.stop()
+    try:
+        complete = progress.step >= config.steps
+        evaluation = _evaluate(config, bot, env, evaluate_tick, learner.state, task, key, estimator) if (
+            complete and config.eval_seconds > 0) else None
+    finally:
+        bot.stop()
+        sys.setswitchinterval(switch_interval)
+        if realtime:
+            scheduling.back_to_normal()
     _save(checkpoint, config, learner.state, task_state, key, learner.updates, buffer, progress)
     document = _document(config, progress, timing, learner, compile_s, started, complete, evaluation)
     results.write(out_dir / f"{config.name}.json", document)
@@ -354,6 +365,7 @@ def _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_
         if stepping:
             buffer.add(previous[0], previous[1], reward, obs, 0.0 if trip else 1.0)
             progress.step += 1
+            learner.new_step.set()
             truth = bot.truth()["linear_velocity"] if hasattr(bot, "truth") else (np.nan,) * 3
             progress.trace[progress.step - 1] = (progress.step, progress.train_seconds + time.perf_counter()
                                                  - episode_start, reading.velocity[0], reading.velocity[1], truth[0],
@@ -371,6 +383,7 @@ def _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_
         prev_gyro = s.angular_velocity
         deadline += period
         now = time.perf_counter()
+        timing["work"].append(now - start)
         if now > deadline:
             timing["late"] += 1  # the work of this period overran the next tick's start
             deadline = now
@@ -434,6 +447,7 @@ def _evaluate(config, bot, env, evaluate_tick, agent_state, task, key, estimator
 
 def _document(config, progress, timing, learner, compile_s, started, complete, evaluation) -> dict:
     periods = np.asarray(timing["periods"]) * 1000
+    work = np.asarray(timing["work"]) * 1000
     nominal = 1000 / config.hz
     error = np.abs(periods - nominal) if len(periods) else np.zeros(1)
     learning_steps = max(progress.step - config.warmup_steps, 1)
@@ -457,6 +471,10 @@ def _document(config, progress, timing, learner, compile_s, started, complete, e
             "period_error_max_ms": float(error.max()),
             "missed_deadlines": timing["late"],
             "ticks": timing["ticks"],
+            "work_p50_ms": float(np.percentile(work, 50)) if len(work) else None,
+            "work_p99_ms": float(np.percentile(work, 99)) if len(work) else None,
+            "work_max_ms": float(work.max()) if len(work) else None,
+            "scheduling": timing["scheduling"],
             "period_histogram": _histogram(periods, nominal),
         },
         "rows": progress.rows,
@@ -531,30 +549,6 @@ def _load(checkpoint: Path, config, agent_state, task_state, key, buffer, progre
     done = np.load(checkpoint / "trace.npy")
     progress.trace[:len(done)] = done
     return state["agent"], state["task_state"], state["key"], counters["updates"]
-
-
-LEARNER_NICENESS = 10
-"""OS niceness of the learner and XLA's compute threads: when the control thread wakes for its
-deadline, the scheduler gives it a core at once instead of after a time slice. Raising niceness
-needs no privilege but cannot be undone without it, so XLA's threads stay lowered afterwards
-(it only matters when threads compete for a core)."""
-
-
-def _lower_priority(thread_id: int) -> None:
-    try:
-        os.setpriority(os.PRIO_PROCESS, thread_id, max(os.getpriority(os.PRIO_PROCESS, thread_id),
-                                                       LEARNER_NICENESS))
-    except (AttributeError, OSError):
-        pass  # not Linux, or the thread is gone: timing is then best effort
-
-
-def _xla_threads() -> list[int]:
-    """Linux thread ids of XLA's CPU compute pool (where every jitted call of the loop runs)."""
-    tasks_dir = Path("/proc/self/task")
-    if not tasks_dir.exists():
-        return []
-    return [int(tid.name) for tid in tasks_dir.iterdir()
-            if (tid / "comm").exists() and (tid / "comm").read_text().startswith("tf_")]
 
 
 def _main_thread() -> bool:

@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 
 from mjx_badger import robot
+from mjx_badger.realtime import scheduling
 from mjx_badger.realtime.interface import Sensors
 
 
@@ -125,6 +126,9 @@ class SimulatedHB40:
         self._sensors = self._measure()
 
     def _physics_loop(self):
+        # The robot's own controller runs on its own hardware; here it must not wait behind the
+        # learner either (a no-op where real-time scheduling is not allowed).
+        scheduling.raise_to_realtime(scheduling.CONTROL_PRIORITY + 1)
         next_tick = time.perf_counter()
         while self._running.is_set():
             with self._lock:
