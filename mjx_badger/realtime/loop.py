@@ -10,6 +10,11 @@ environment's and the task's. A safety trip damps the motors first, ends the epi
 a fall and waits for the (manual) reset, which is not training time. Ctrl-C damps the robot,
 then saves policy, optimiser state and replay buffer; the next run with the same settings
 resumes from them.
+
+Timing in the results (this session's periods): the period runs from one tick's start to the
+next; wake is how long after its deadline a tick started (the scheduler and the GIL); work
+runs from a tick's start to its sleep (read, estimate, act, command, store); a missed
+deadline is a tick whose work ran past the next tick's start, so that its command was late.
 """
 
 import dataclasses
@@ -282,7 +287,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     estimator = VelocityEstimator(kalman)
     period = 1.0 / config.hz
     episode_steps = int(round(config.episode_seconds * config.hz))
-    timing = {"periods": [], "work": [], "late": 0, "ticks": 0,
+    timing = {"periods": [], "wake": [], "at_step": [], "work": [], "late": 0, "ticks": 0,
               "scheduling": "SCHED_FIFO" if realtime else "ordinary, compute threads niced"}
     started = results.now()
     # Python hands the GIL between threads every 5 ms by default; the control thread waking for
@@ -345,6 +350,8 @@ def _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_
         start = time.perf_counter()
         if last_start is not None:
             timing["periods"].append(start - last_start)
+            timing["wake"].append(start - deadline)  # past the deadline slept to: scheduler and GIL
+            timing["at_step"].append(progress.step)
         last_start = start
         timing["ticks"] += 1
         reading = _Reading(bot.read(), estimator, period, stance if config.planned_contacts else None)
@@ -448,8 +455,10 @@ def _evaluate(config, bot, env, evaluate_tick, agent_state, task, key, estimator
 def _document(config, progress, timing, learner, compile_s, started, complete, evaluation) -> dict:
     periods = np.asarray(timing["periods"]) * 1000
     work = np.asarray(timing["work"]) * 1000
+    wake = np.asarray(timing["wake"]) * 1000
     nominal = 1000 / config.hz
     error = np.abs(periods - nominal) if len(periods) else np.zeros(1)
+    worst = np.argsort(error)[::-1][:5] if len(periods) else []
     learning_steps = max(progress.step - config.warmup_steps, 1)
     return {
         "schema": SCHEMA,
@@ -474,6 +483,10 @@ def _document(config, progress, timing, learner, compile_s, started, complete, e
             "work_p50_ms": float(np.percentile(work, 50)) if len(work) else None,
             "work_p99_ms": float(np.percentile(work, 99)) if len(work) else None,
             "work_max_ms": float(work.max()) if len(work) else None,
+            "wake_p99_ms": float(np.percentile(wake, 99)) if len(wake) else None,
+            "wake_max_ms": float(wake.max()) if len(wake) else None,
+            "worst_periods": [{"step": int(timing["at_step"][i]), "period_ms": float(periods[i]),
+                               "wake_ms": float(wake[i])} for i in worst],
             "scheduling": timing["scheduling"],
             "period_histogram": _histogram(periods, nominal),
         },
