@@ -33,7 +33,7 @@ def _timing(document: dict) -> dict:
     return {k: round(timing[k], 3) if isinstance(timing[k], float) else timing[k]
             for k in ("period_p50_ms", "period_p99_ms", "period_error_p99_ms", "period_error_max_ms",
                       "missed_deadlines", "ticks", "work_p50_ms", "work_p99_ms", "work_max_ms", "wake_p99_ms", "wake_max_ms",
-                      "worst_periods", "scheduling")}
+                      "worst_periods", "scheduling", "memory_locked", "major_page_faults")}
 
 
 def sustain(seconds: float, warmup_steps: int = 200) -> list[dict]:

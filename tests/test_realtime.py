@@ -137,6 +137,7 @@ def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path)
     assert timing["ticks"] >= TINY.steps
     assert timing["scheduling"] in ("SCHED_FIFO", "ordinary, compute threads niced")
     assert 0 < timing["work_p50_ms"] <= timing["work_max_ms"] < 1000 / TINY.hz
+    assert timing["major_page_faults"] >= 0 and isinstance(timing["memory_locked"], bool)
     assert not scheduling.is_realtime()  # the caller's thread is ordinary again afterwards
     assert document["evaluation"]["seconds"] > 0
     trace = np.load(tmp_path / f"{TINY.name}.trace.npy")

@@ -275,6 +275,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     gc.collect()
     gc.freeze()
     realtime = scheduling.raise_to_realtime()
+    locked = scheduling.lock_memory()
 
     def allowed(updates):
         learning_steps = progress.step - config.warmup_steps
@@ -288,7 +289,8 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     period = 1.0 / config.hz
     episode_steps = int(round(config.episode_seconds * config.hz))
     timing = {"periods": [], "wake": [], "at_step": [], "work": [], "late": 0, "ticks": 0,
-              "scheduling": "SCHED_FIFO" if realtime else "ordinary, compute threads niced"}
+              "scheduling": "SCHED_FIFO" if realtime else "ordinary, compute threads niced",
+              "memory_locked": locked, "major_page_faults": scheduling.major_page_faults()}
     started = results.now()
     # Python hands the GIL between threads every 5 ms by default; the control thread waking for
     # its deadline must not wait that long behind the learner's or the physics' Python code.
@@ -309,6 +311,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     finally:
         bot.damp()  # safety first: motors soft before anything is saved
         learner.stop()
+        timing["major_page_faults"] = scheduling.major_page_faults() - timing["major_page_faults"]
         gc.unfreeze()
         if previous_handler is not None:
             signal.signal(signal.SIGINT, previous_handler)
@@ -322,6 +325,8 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
         sys.setswitchinterval(switch_interval)
         if realtime:
             scheduling.back_to_normal()
+        if locked:
+            scheduling.unlock_memory()
     _save(checkpoint, config, learner.state, task_state, key, learner.updates, buffer, progress)
     document = _document(config, progress, timing, learner, compile_s, started, complete, evaluation)
     results.write(out_dir / f"{config.name}.json", document)
@@ -488,6 +493,8 @@ def _document(config, progress, timing, learner, compile_s, started, complete, e
             "worst_periods": [{"step": int(timing["at_step"][i]), "period_ms": float(periods[i]),
                                "wake_ms": float(wake[i])} for i in worst],
             "scheduling": timing["scheduling"],
+            "memory_locked": timing["memory_locked"],
+            "major_page_faults": timing["major_page_faults"],
             "period_histogram": _histogram(periods, nominal),
         },
         "rows": progress.rows,

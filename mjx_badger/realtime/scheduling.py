@@ -1,4 +1,4 @@
-"""Who gets a core first: the control thread before the learner.
+"""Who gets a core first, and whose pages stay in memory: the control thread's.
 
 The learner keeps both cores of a small machine busy, and the control thread must wake on
 time every 25 ms. On Linux it asks for the real-time class SCHED_FIFO, which preempts every
@@ -6,9 +6,17 @@ ordinary thread the moment it wakes; that takes root, CAP_SYS_NICE or an rtprio 
 (`ulimit -r`). Without it the control thread stays ordinary and the learner's compute threads
 are niced instead, which helps less: measured on the 2-core development machine, a 40 Hz
 sleep loop beside two niced CPU hogs woke up to 11 ms late, under SCHED_FIFO at most 0.1 ms.
+
+Memory: a kernel may drop pages of the process it sees unused (shared-library code, for one;
+the development machine runs DAMON's proactive pageout) and read them back from disk on the
+next touch, a major page fault that stalls the thread for milliseconds. A control path taken
+once a minute is exactly such code, so the loop locks the process's pages in memory
+(mlockall), which takes CAP_IPC_LOCK or a large enough `ulimit -l`.
 """
 
+import ctypes
 import os
+import resource
 from pathlib import Path
 
 CONTROL_PRIORITY = 50
@@ -57,3 +65,27 @@ def nice_compute_threads() -> int:
         except (OSError, ValueError):
             continue  # the thread ended meanwhile
     return found
+
+
+_MCL_CURRENT = 1
+
+
+def lock_memory() -> bool:
+    """Lock every page mapped now in RAM (mlockall); False where that is not allowed."""
+    try:
+        return ctypes.CDLL(None, use_errno=True).mlockall(_MCL_CURRENT) == 0
+    except (AttributeError, OSError):
+        return False
+
+
+def unlock_memory() -> None:
+    """Let the kernel page the process out again (always allowed)."""
+    try:
+        ctypes.CDLL(None).munlockall()
+    except (AttributeError, OSError):
+        pass
+
+
+def major_page_faults() -> int:
+    """Page faults of this process that waited for the disk, so far."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_majflt
