@@ -58,7 +58,7 @@ def evidence_run(steps: int, seed: int) -> dict:
     """CrossQ JT-OEF at 40 Hz on the simulated robot, as the thesis's office run (Table 5.3)."""
     config = loop.RealtimeConfig(approach="jt-oef", algo="crossq", steps=steps, seed=seed)
     out = run_dir(seed)
-    document = loop.run(config, SimulatedHB40(seed=seed), out, resume=True)
+    document = loop.run(config, SimulatedHB40(seed=seed), out, resume=False)  # a measurement starts afresh
     plots.realtime_figure(document, loop.load_trace(out, config), out / f"{config.name}.png")
     rows = document["rows"]
     best = max((r for r in rows if r["true_velocity"] is not None), key=lambda r: r["true_velocity"], default=None)

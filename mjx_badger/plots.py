@@ -477,10 +477,15 @@ def realtime_figure(document: dict, trace: np.ndarray, out: Path) -> Path:
     ax.set_yscale("log")
     ax.set_xlabel("control period [ms]")
     ax.set_title(f"p50 {timing['period_p50_ms']:.2f} ms, p99 error {timing['period_error_p99_ms']:.2f} ms, "
-                 f"{timing['missed_deadlines']} late", fontsize=10)
+                 f"{timing['missed_deadlines']} late" if timing["period_p50_ms"] is not None
+                 else "no control period timed in this session", fontsize=10)
     outside = histogram["below"] + histogram["above"]
+    notes = [f"largest period error {timing['period_error_max_ms']:.1f} ms"]
     if outside:
-        ax.text(0.02, 0.95, f"{outside} periods outside the axis", transform=ax.transAxes, fontsize=8, va="top")
+        notes.insert(0, f"{outside} periods outside the axis")
+    if timing.get("scheduling"):
+        notes.append(f"control thread: {timing['scheduling']}")
+    ax.text(0.02, 0.95, "\n".join(notes), transform=ax.transAxes, fontsize=8, va="top")
     evaluation = document.get("evaluation") or {}
     summary = (f"{document['steps']} steps, {document['train_minutes']:.1f} min training "
                f"({document['minutes_with_resets']:.1f} with resets), {document['falls']} falls, "

@@ -10,7 +10,7 @@ import jax
 import numpy as np
 import pytest
 
-from mjx_badger import kinematics, robot
+from mjx_badger import kinematics, plots, robot
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.realtime import safety, scheduling
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
@@ -143,6 +143,8 @@ def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path)
     trace = np.load(tmp_path / f"{TINY.name}.trace.npy")
     assert trace.shape[0] == TINY.steps and trace[:, 7].sum() == document["falls"]
     assert np.isfinite(trace[:, 2]).all() and np.isfinite(trace[:, 4]).all()
+    figure = plots.realtime_figure(document, trace, tmp_path / "run.png")
+    assert figure.stat().st_size > 10_000
 
 
 class Interrupting(SimulatedHB40):
@@ -176,6 +178,9 @@ def test_stop_and_resume_keep_the_replay_buffer_and_step_count(tmp_path):
     assert int(after["size"]) == config.steps
     np.testing.assert_array_equal(after["obs"][: stopped["steps"]], first_obs)
     assert resumed["falls"] >= stopped["falls"] and resumed["updates"] >= stopped["updates"]
+    # The same command once more neither trains nor rewrites the finished results.
+    again = run(config, SimulatedHB40(reset_seconds=0.1), tmp_path, view=False)
+    assert again["wall_clock"] == resumed["wall_clock"] and again["steps"] == config.steps
     with pytest.raises(ValueError, match="other settings"):
         run(dataclasses.replace(config, seed=1), SimulatedHB40(), tmp_path, view=False)
 

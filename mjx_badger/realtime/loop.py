@@ -264,6 +264,10 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     if resume and (checkpoint / "state.msgpack").exists():
         agent_state, task_state, key, learner_updates = _load(checkpoint, config, agent_state, task_state, key,
                                                               buffer, progress)
+        finished = out_dir / f"{config.name}.json"
+        if progress.step >= config.steps and finished.exists():
+            _say(view, f"{config.name} is complete ({progress.step} steps): {finished}; --restart trains again")
+            return json.loads(finished.read_text())
         _say(view, f"resuming {config.name} at step {progress.step} ({progress.falls} falls so far)")
 
     compile_start = time.perf_counter()
