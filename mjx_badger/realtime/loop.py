@@ -249,8 +249,11 @@ class _Reading:
 
 
 def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realtime"), resume: bool = True,
-        view: bool = True, kalman: KalmanConfig = KalmanConfig()) -> dict:
-    """Train on `bot` for `config.steps` control steps (or until Ctrl-C); returns the results document."""
+        view: bool = True, kalman: KalmanConfig = KalmanConfig(), lock_memory: bool = True) -> dict:
+    """Train on `bot` for `config.steps` control steps (or until Ctrl-C); returns the results document.
+
+    `lock_memory=False` leaves the pages to the kernel (to measure what locking them buys).
+    """
     env, task, agent, tick, evaluate_tick, update = build(config)
     out_dir = Path(out_dir)
     checkpoint = out_dir / f"{config.name}.checkpoint"
@@ -279,7 +282,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     gc.collect()
     gc.freeze()
     realtime = scheduling.raise_to_realtime()
-    locked = scheduling.lock_memory()
+    locked = lock_memory and scheduling.lock_memory()
 
     def allowed(updates):
         learning_steps = progress.step - config.warmup_steps
@@ -292,7 +295,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     estimator = VelocityEstimator(kalman)
     period = 1.0 / config.hz
     episode_steps = int(round(config.episode_seconds * config.hz))
-    timing = {"periods": [], "wake": [], "at_step": [], "work": [], "late": 0, "ticks": 0,
+    timing = {"periods": [], "wake": [], "at_step": [], "at_time": [], "work": [], "late": 0, "ticks": 0,
               "scheduling": "SCHED_FIFO" if realtime else "ordinary, compute threads niced",
               "memory_locked": locked, "major_page_faults": scheduling.major_page_faults()}
     started = results.now()
@@ -361,6 +364,7 @@ def _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_
             timing["periods"].append(start - last_start)
             timing["wake"].append(start - deadline)  # past the deadline slept to: scheduler and GIL
             timing["at_step"].append(progress.step)
+            timing["at_time"].append(start)
         last_start = start
         timing["ticks"] += 1
         reading = _Reading(bot.read(), estimator, period, stance if config.planned_contacts else None)
@@ -495,7 +499,8 @@ def _document(config, progress, timing, learner, compile_s, started, complete, e
             "wake_p99_ms": float(np.percentile(wake, 99)) if len(wake) else None,
             "wake_max_ms": float(wake.max()) if len(wake) else None,
             "worst_periods": [{"step": int(timing["at_step"][i]), "period_ms": float(periods[i]),
-                               "wake_ms": float(wake[i])} for i in worst],
+                               "wake_ms": float(wake[i]), "unix_time": _unix_time(timing["at_time"][i])}
+                              for i in worst],
             "scheduling": timing["scheduling"],
             "memory_locked": timing["memory_locked"],
             "major_page_faults": timing["major_page_faults"],
@@ -508,6 +513,11 @@ def _document(config, progress, timing, learner, compile_s, started, complete, e
         "git_commit": results.git_commit(),
         "hardware": results.hardware(),
     }
+
+
+def _unix_time(perf_counter_time: float) -> float:
+    """A time.perf_counter() reading as seconds since the epoch (to line up with other logs)."""
+    return time.time() - (time.perf_counter() - perf_counter_time)
 
 
 def _histogram(periods_ms, nominal_ms, half_width_ms: float = 5.0, bins: int = 80) -> dict:
