@@ -604,19 +604,20 @@ class _View:
         self.last = 0.0
         self.start = time.perf_counter()
         self.start_step = progress.step
-        self.start_updates = learner.updates
+        self.since = (self.start, learner.updates)  # the learner's rate is shown over the last interval
 
     def show(self):
         now = time.perf_counter()
         if not self.enabled or now - self.last < self.every_s:
             return
         self.last = now
+        updates_per_s = (self.learner.updates - self.since[1]) / max(now - self.since[0], 1e-9)
+        self.since = (now, self.learner.updates)
         p = self.progress
         recent = p.trace[max(p.step - int(self.config.hz), 0):p.step]
         periods = np.asarray(self.timing["periods"][-2000:]) * 1000
         rate = (p.step - self.start_step) / max(now - self.start, 1e-9)
-        eta = (self.config.steps - p.step) / max(rate, 1e-9)
-        updates_per_s = (self.learner.updates - self.start_updates) / max(now - self.start, 1e-9)
+        eta = (self.config.steps - p.step) / max(rate, 1e-9)  # resets included: they will recur
         line = (f"step {p.step}/{self.config.steps} | v est {recent[:, 2].mean():+.2f} true {recent[:, 4].mean():+.2f}"
                 f" m/s | falls {p.falls} | reward {recent[:, 6].mean():.2f} | period p50 "
                 f"{np.percentile(periods, 50):.1f} p99 {np.percentile(periods, 99):.1f} ms, late {self.timing['late']}"
