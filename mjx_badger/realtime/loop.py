@@ -402,13 +402,10 @@ def _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_
         stance = np.asarray(stance_out)
         prev_gyro = s.angular_velocity
         deadline += period
-        now = time.perf_counter()
-        timing["work"].append(now - start)
-        if now > deadline:
+        timing["work"].append(time.perf_counter() - start)
+        if not scheduling.sleep_until(deadline):
             timing["late"] += 1  # the work of this period overran the next tick's start
-            deadline = now
-        else:
-            time.sleep(deadline - now)
+            deadline = time.perf_counter()
     progress.train_seconds += time.perf_counter() - episode_start
     progress.episodes += 1
     if trip:
@@ -456,7 +453,7 @@ def _evaluate(config, bot, env, evaluate_tick, agent_state, task, key, estimator
         estimated.append(reading.velocity[0])
         true.append(bot.truth()["linear_velocity"][0] if hasattr(bot, "truth") else np.nan)
         deadline += period
-        time.sleep(max(0.0, deadline - time.perf_counter()))
+        scheduling.sleep_until(deadline)
     one_second = max(1, int(config.hz))
     true = np.asarray(true)
     peak = (float(np.convolve(true, np.ones(one_second) / one_second, "valid").max())

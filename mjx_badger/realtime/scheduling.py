@@ -15,13 +15,14 @@ once a minute is exactly such code, so the loop locks the process's pages in mem
 fault in an unlocked 20k-step run, none locked.)
 
 Neither can hide a machine's own stalls: on the development VM a bare SCHED_FIFO sleep loop,
-alone on the machine, still sees a 20-35 ms stall about once in 20k periods
-(`benchmarks/bench_realtime.py --floor`).
+alone on the machine, still stalls for 10-35 ms at times, from none in one 20k-period reading
+to 42 in another while the host was busy (`benchmarks/bench_realtime.py --floor`).
 """
 
 import ctypes
 import os
 import resource
+import time
 from pathlib import Path
 
 CONTROL_PRIORITY = 50
@@ -29,6 +30,15 @@ CONTROL_PRIORITY = 50
 COMPUTE_NICENESS = 10
 """Niceness of XLA's compute threads. Raising it needs no privilege but lowering it back does,
 so they stay niced after the run (it only matters when threads compete for a core)."""
+
+
+def sleep_until(deadline: float) -> bool:
+    """Sleep to `deadline` (a time.perf_counter() reading); False, at once, if it has passed."""
+    delay = deadline - time.perf_counter()
+    if delay <= 0:
+        return False
+    time.sleep(delay)
+    return True
 
 
 def raise_to_realtime(priority: int = CONTROL_PRIORITY) -> bool:
@@ -94,4 +104,3 @@ def unlock_memory() -> None:
 def major_page_faults() -> int:
     """Page faults of this process that waited for the disk, so far."""
     return resource.getrusage(resource.RUSAGE_SELF).ru_majflt
-
