@@ -281,8 +281,6 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     # four control periods.
     gc.collect()
     gc.freeze()
-    realtime = scheduling.raise_to_realtime()
-    locked = lock_memory and scheduling.lock_memory()
 
     def allowed(updates):
         learning_steps = progress.step - config.warmup_steps
@@ -291,49 +289,41 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     learner = Learner(update, agent_state, buffer, config.agent_config.batch_size, learner_key, allowed,
                       learner_updates)
     stop = threading.Event()
-    previous_handler = signal.signal(signal.SIGINT, lambda *_: stop.set()) if _main_thread() else None
     estimator = VelocityEstimator(kalman)
     period = 1.0 / config.hz
     episode_steps = int(round(config.episode_seconds * config.hz))
-    timing = {"periods": [], "wake": [], "at_step": [], "at_time": [], "work": [], "late": 0, "ticks": 0,
-              "scheduling": "SCHED_FIFO" if realtime else "ordinary, compute threads niced",
-              "memory_locked": locked, "major_page_faults": scheduling.major_page_faults()}
     started = results.now()
-    # Python hands the GIL between threads every 5 ms by default; the control thread waking for
-    # its deadline must not wait that long behind the learner's or the physics' Python code.
-    switch_interval = sys.getswitchinterval()
-    sys.setswitchinterval(0.0002)
-    bot.start()
-    learner.start()
-    scheduling.nice_compute_threads()
-    view_line = _View(view, config, progress, learner, timing, bot)
-    try:
-        fresh = True
-        while progress.step < config.steps and not stop.is_set():
-            key, command_key = jax.random.split(key)
-            task_state, command = task.command(task_state, command_key)
-            fresh = _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_state, command, key,
-                             fresh, episode_steps, period, stop, timing, view_line)
-            task_state, key = progress.task_state, progress.key
-    finally:
-        bot.damp()  # safety first: motors soft before anything is saved
-        learner.stop()
-        timing["major_page_faults"] = scheduling.major_page_faults() - timing["major_page_faults"]
-        gc.unfreeze()
-        if previous_handler is not None:
-            signal.signal(signal.SIGINT, previous_handler)
-        view_line.close()
-    try:
-        complete = progress.step >= config.steps
-        evaluation = _evaluate(config, bot, env, evaluate_tick, learner.state, task, key, estimator) if (
-            complete and config.eval_seconds > 0) else None
-    finally:
-        bot.stop()
-        sys.setswitchinterval(switch_interval)
-        if realtime:
-            scheduling.back_to_normal()
-        if locked:
-            scheduling.unlock_memory()
+    with scheduling.control_thread(lock_memory) as (realtime, locked):
+        timing = {"periods": [], "wake": [], "at_step": [], "at_time": [], "work": [], "late": 0, "ticks": 0,
+                  "scheduling": "SCHED_FIFO" if realtime else "ordinary, compute threads niced",
+                  "memory_locked": locked, "major_page_faults": scheduling.major_page_faults()}
+        previous_handler = signal.signal(signal.SIGINT, lambda *_: stop.set()) if _main_thread() else None
+        bot.start()
+        learner.start()
+        scheduling.nice_compute_threads()
+        view_line = _View(view, config, progress, learner, timing, bot)
+        try:
+            fresh = True
+            while progress.step < config.steps and not stop.is_set():
+                key, command_key = jax.random.split(key)
+                task_state, command = task.command(task_state, command_key)
+                fresh = _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_state, command,
+                                 key, fresh, episode_steps, period, stop, timing, view_line)
+                task_state, key = progress.task_state, progress.key
+        finally:
+            bot.damp()  # safety first: motors soft before anything is saved
+            learner.stop()
+            timing["major_page_faults"] = scheduling.major_page_faults() - timing["major_page_faults"]
+            gc.unfreeze()
+            if previous_handler is not None:
+                signal.signal(signal.SIGINT, previous_handler)
+            view_line.close()
+        try:
+            complete = progress.step >= config.steps
+            evaluation = _evaluate(config, bot, env, evaluate_tick, learner.state, task, key, estimator) if (
+                complete and config.eval_seconds > 0) else None
+        finally:
+            bot.stop()
     _save(checkpoint, config, learner.state, task_state, key, learner.updates, buffer, progress)
     document = _document(config, progress, timing, learner, compile_s, started, complete, evaluation)
     results.write(out_dir / f"{config.name}.json", document)

@@ -19,9 +19,11 @@ alone on the machine, still stalls for 10-35 ms at times, from none in one 20k-p
 to 42 in another while the host was busy (`benchmarks/bench_realtime.py --floor`).
 """
 
+import contextlib
 import ctypes
 import os
 import resource
+import sys
 import time
 from pathlib import Path
 
@@ -30,6 +32,29 @@ CONTROL_PRIORITY = 50
 COMPUTE_NICENESS = 10
 """Niceness of XLA's compute threads. Raising it needs no privilege but lowering it back does,
 so they stay niced after the run (it only matters when threads compete for a core)."""
+
+
+GIL_SWITCH_INTERVAL_S = 0.0002
+"""Python hands the GIL between threads every 5 ms by default; the control thread waking for
+its deadline must not wait that long behind the learner's or a simulated robot's Python code."""
+
+
+@contextlib.contextmanager
+def control_thread(lock: bool = True):
+    """The calling thread as a control thread for the block: SCHED_FIFO, memory locked (if `lock`),
+    a short GIL switch interval; yields (fifo, locked) as granted and undoes all of it after."""
+    switch_interval = sys.getswitchinterval()
+    sys.setswitchinterval(GIL_SWITCH_INTERVAL_S)
+    fifo = raise_to_realtime()
+    locked = lock and lock_memory()
+    try:
+        yield fifo, locked
+    finally:
+        if locked:
+            unlock_memory()
+        if fifo:
+            back_to_normal()
+        sys.setswitchinterval(switch_interval)
 
 
 def sleep_until(deadline: float) -> bool:
