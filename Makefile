@@ -3,6 +3,7 @@ PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
 PROFILE ?= quick
+PROTOCOL ?= thesis-code
 
 .PHONY: install test test-slow reproduce-figures figures benchmark clean
 
@@ -21,13 +22,14 @@ test-slow: install
 	$(PY) -m pytest -q -m slow
 
 reproduce-figures: install
-	$(PY) -m mjx_badger reproduce --profile $(PROFILE)
+	$(PY) -m mjx_badger reproduce --profile $(PROFILE) --protocol $(PROTOCOL)
 
 figures: install
-	$(PY) -m mjx_badger figures --profile $(PROFILE)
+	$(PY) -m mjx_badger figures --profile $(PROFILE) --protocol $(PROTOCOL)
 
 benchmark: install
 	$(PY) benchmarks/bench_spine.py
+	$(PY) benchmarks/bench_contacts.py
 	$(PY) benchmarks/bench_algorithms.py
 	$(PY) benchmarks/bench_realtime.py
 

@@ -41,7 +41,7 @@ def native_control_steps_per_s(seconds=3.0):
     model = robot.load_model()
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
-    data.ctrl[:] = robot.NOMINAL_POSE
+    data.ctrl[:] = robot.nominal_pose()
     steps, t0 = 0, time.perf_counter()
     while time.perf_counter() - t0 < seconds:
         for _ in range(5):

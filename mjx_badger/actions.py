@@ -13,7 +13,8 @@ from typing import Callable, NamedTuple
 import jax.numpy as jnp
 import numpy as np
 
-from mjx_badger import cpg, filters, kinematics, robot
+from mjx_badger import cpg, filters, kinematics, protocols, robot
+from mjx_badger.protocols import Protocol
 
 
 class ActionSpace(NamedTuple):
@@ -36,7 +37,7 @@ class ActionSpace(NamedTuple):
 
     def rest_ctrl(self):
         """PD targets of the standing robot, before any action."""
-        nominal = jnp.asarray(robot.NOMINAL_POSE)
+        nominal = jnp.asarray(robot.nominal_pose())
         return jnp.concatenate([nominal, nominal]) if self.split_pd else nominal
 
 
@@ -45,14 +46,15 @@ class JTState(NamedTuple):
     target: jnp.ndarray  # (12,) the last joint targets sent
 
 
-def joint_targets(name: str, filter_name: str, dt: float) -> ActionSpace:
+def joint_targets(name: str, filt: filters.Filter) -> ActionSpace:
     """JT (§4.2): nominal pose + action scaled to +-[0.2, 0.4, 0.4], then filtered."""
-    filt = filters.make_filter(filter_name, dt)
-    nominal = jnp.asarray(robot.NOMINAL_POSE)
-    scale = jnp.asarray(robot.JT_ACTION_SCALE)
+    nominal = jnp.asarray(robot.nominal_pose())
+    scale = jnp.asarray(robot.jt_action_scale())
 
     def step(state, action):
-        # Filtering the joint targets (radians), so the One Euro beta acts on rad/s.
+        # Filtering the joint targets (radians), so the One Euro beta acts on rad/s; a linear
+        # filter started at rest at the nominal pose equals the released code's zero-state
+        # filter of the offsets.
         filter_state, target = filt.step(state.filter, nominal + scale * jnp.clip(action, -1.0, 1.0))
         return JTState(filter_state, target), target
 
@@ -63,45 +65,80 @@ def joint_targets(name: str, filter_name: str, dt: float) -> ActionSpace:
                        step=step, observe=observe, predicted_name="joint_angle")
 
 
+def jt_filter(kind: str, dt: float, protocol: Protocol) -> filters.Filter:
+    """The filter of a JT approach ('none', 'lowpass', 'one_euro') under a protocol."""
+    if kind == "lowpass":
+        return filters.make_filter("butterworth" if protocol.lowpass == "butterworth" else "lowpass", dt)
+    if kind == "one_euro":
+        return filters.make_filter("one_euro", dt, start_at_first_input=protocol.one_euro_first_output_is_input)
+    return filters.make_filter(kind, dt)
+
+
 # Thesis §4.3: foot offsets within +-0.15 m in x and y, +-0.1 m in z; frequency in [1, 4] Hz;
-# residual joint angles within +-[0.1, 0.2, 0.2].
+# residual joint angles within +-[0.1, 0.2, 0.2]. The released code adds its offsets to joint
+# angles instead, within +-[0.15, 0.15, 0.10] rad (THESIS_CODE §2).
 FOOT_OFFSET_SCALE = np.tile([0.15, 0.15, 0.1], 4).astype(np.float32)
+JOINT_OFFSET_SCALE = FOOT_OFFSET_SCALE
 CPG_FREQUENCY_HZ = 2.0
 CPG_FREQUENCY_RANGE_HZ = (1.0, 4.0)
 RESIDUAL_SCALE = np.tile([0.1, 0.2, 0.2], 4).astype(np.float32)
-RESIDUAL_MODES = ("torque-average", "angle-average", "angle-sum")
+RESIDUAL_MODES = ("torque-average", "angle-average", "angle-sum", "average-d-bug")
+# The released code's CPG stance: foot targets (0.05, +-0.02, -0.25) m in its IK's leg frames,
+# rear legs 0.02 m further back (C/control_functions/inverse_kinematics.py).
+THESIS_CODE_STANCE = np.stack([0.05 - 0.02 * (robot.FRONT_SIGN < 0), 0.02 * robot.LEFT_SIGN, np.full(4, -0.25)],
+                              axis=-1).astype(np.float32)
 
 
 class CPGActionState(NamedTuple):
     cpg: cpg.CPGState
-    feet: jnp.ndarray  # (4, 3) the last commanded foot positions in the hip frames
+    feet: jnp.ndarray  # (4, 3) the last commanded foot positions in the hip frames (thesis-text)
+    offsets: jnp.ndarray  # (12,) the last scaled action offsets (thesis-code's observation)
+    heights: jnp.ndarray  # (2,) the last swing heights of the two leg pairs (thesis-code's observation)
 
 
-def central_pattern(name: str, dt: float, variable_frequency: bool = False, residual: str | None = None
-                    ) -> ActionSpace:
-    """CPG (§4.3): trot foot heights + predicted foot offsets, through inverse kinematics.
+def central_pattern(name: str, dt: float, variable_frequency: bool = False, residual: str | None = None,
+                    protocol: Protocol = protocols.THESIS_CODE) -> ActionSpace:
+    """CPG (§4.3): trot foot heights + predicted offsets, through inverse kinematics.
 
+    thesis-text: offsets on the foot positions around the nominal stance, then our IK.
+    thesis-code: the released code's IK of its own stance plus swing height, then the offsets
+    added to the joint angles.
     `variable_frequency` adds a 13th action, the frequency in [1, 4] Hz (CPG-VF).
     `residual` adds 12 residual joint angles around the nominal pose (CPG-RT), combined with
     the CPG's joint angles by one of RESIDUAL_MODES:
-      torque-average  tau = (tau_cpg + tau_residual) / 2 from two PD controllers (simulation default)
+      torque-average  tau = (tau_cpg + tau_residual) / 2 from two PD controllers (thesis text, simulation)
       angle-average   phi = (phi_cpg + phi_residual) / 2 (what the real robot ran)
       angle-sum       phi = phi_cpg + residual, clipped to the joint ranges
+      average-d-bug   the released code: tau = [tau_cpg + Kp (nominal + residual - q) + Kd (offset - qdot)] / 2,
+                      the offset standing in for a velocity target; one PD on the average target
+                      with the feed-forward Kd offset / 2 folded into it
     """
     if residual is not None and residual not in RESIDUAL_MODES:
         raise ValueError(f"residual mode {residual!r} is not one of {RESIDUAL_MODES}")
-    nominal = jnp.asarray(robot.NOMINAL_POSE)
+    code = protocol.cpg_action == "joint-offsets"
+    nominal = jnp.asarray(robot.nominal_pose())
     nominal_feet = jnp.asarray(kinematics.NOMINAL_FEET)
+    stance = jnp.asarray(THESIS_CODE_STANCE)
     low, high = CPG_FREQUENCY_RANGE_HZ
     size = robot.NUM_JOINTS + int(variable_frequency) + (robot.NUM_JOINTS if residual else 0)
+    kp, kd = protocol.cpg_pd_gains
 
     def step(state, action):
         action = jnp.clip(action, -1.0, 1.0)
-        offsets = (action[:12] * FOOT_OFFSET_SCALE).reshape(4, 3)
         frequency = low + (high - low) * 0.5 * (action[12] + 1.0) if variable_frequency else CPG_FREQUENCY_HZ
-        pattern = cpg.advance(state.cpg, frequency, dt)
-        feet = nominal_feet + offsets + jnp.zeros((4, 3)).at[:, 2].set(cpg.foot_heights(pattern.phase))
-        angles = kinematics.inverse(feet).reshape(-1)
+        advanced = cpg.advance(state.cpg, frequency, dt)
+        # The released code reads the heights before it advances the phase (beat.py).
+        phase = state.cpg.phase if protocol.cpg_heights_before_advance else advanced.phase
+        heights = cpg.foot_heights(phase)
+        lift = jnp.zeros((4, 3)).at[:, 2].set(heights)
+        if code:
+            offsets = action[:12] * JOINT_OFFSET_SCALE
+            feet = stance + lift
+            angles = kinematics.thesis_code_ik(feet).reshape(-1) + offsets
+        else:
+            offsets = action[:12] * FOOT_OFFSET_SCALE
+            feet = nominal_feet + offsets.reshape(4, 3) + lift
+            angles = kinematics.inverse(feet).reshape(-1)
         if residual is None:
             ctrl = angles
         else:
@@ -110,31 +147,45 @@ def central_pattern(name: str, dt: float, variable_frequency: bool = False, resi
                 ctrl = jnp.concatenate([angles, residual_target])
             elif residual == "angle-average":
                 ctrl = 0.5 * (angles + residual_target)
+            elif residual == "average-d-bug":
+                ctrl = 0.5 * (angles + residual_target) + 0.5 * kd * offsets / kp
             else:
                 ctrl = jnp.clip(angles + action[-12:] * RESIDUAL_SCALE, kinematics.JOINT_LOWER.reshape(-1),
                                 kinematics.JOINT_UPPER.reshape(-1))
-        return CPGActionState(pattern, feet), ctrl
+        pair_heights = jnp.stack([heights[0], heights[1]])
+        return CPGActionState(advanced, feet, offsets, pair_heights), ctrl
 
     def observe(state):
+        if code:
+            return state.offsets, state.heights
         return (state.feet - nominal_feet).reshape(-1), cpg.progress(state.cpg.phase)
 
-    return ActionSpace(name=name, size=size, init=lambda: CPGActionState(cpg.init(), nominal_feet), step=step,
-                       observe=observe, predicted_name="feet_position", extra_size=2,
+    def init():
+        # The released code's first CPG observation is literally [0, pi] (environment.py).
+        return CPGActionState(cpg.init(), nominal_feet, jnp.zeros(12), jnp.array([0.0, jnp.pi]))
+
+    return ActionSpace(name=name, size=size, init=init, step=step, observe=observe,
+                       predicted_name="joint_angle" if code else "feet_position", extra_size=2,
                        split_pd=residual == "torque-average")
 
 
+def is_cpg(approach: str) -> bool:
+    """Whether `approach` drives the legs through the central pattern generator."""
+    return approach.startswith("cpg")
+
+
 APPROACHES = {
-    "jt-nf": lambda dt: joint_targets("jt-nf", "none", dt),
-    "jt-lpf": lambda dt: joint_targets("jt-lpf", "lowpass", dt),
-    "jt-oef": lambda dt: joint_targets("jt-oef", "one_euro", dt),
-    "cpg-d": lambda dt: central_pattern("cpg-d", dt),
-    "cpg-vf": lambda dt: central_pattern("cpg-vf", dt, variable_frequency=True),
-    "cpg-rt": lambda dt: central_pattern("cpg-rt", dt, residual="torque-average"),
-    "cpg-rt-avg": lambda dt: central_pattern("cpg-rt-avg", dt, residual="angle-average"),
-    "cpg-rt-sum": lambda dt: central_pattern("cpg-rt-sum", dt, residual="angle-sum"),
+    "jt-nf": lambda dt, p: joint_targets("jt-nf", jt_filter("none", dt, p)),
+    "jt-lpf": lambda dt, p: joint_targets("jt-lpf", jt_filter("lowpass", dt, p)),
+    "jt-oef": lambda dt, p: joint_targets("jt-oef", jt_filter("one_euro", dt, p)),
+    "cpg-d": lambda dt, p: central_pattern("cpg-d", dt, protocol=p),
+    "cpg-vf": lambda dt, p: central_pattern("cpg-vf", dt, variable_frequency=True, protocol=p),
+    "cpg-rt": lambda dt, p: central_pattern("cpg-rt", dt, residual=p.cpg_residual, protocol=p),
+    "cpg-rt-avg": lambda dt, p: central_pattern("cpg-rt-avg", dt, residual="angle-average", protocol=p),
+    "cpg-rt-sum": lambda dt, p: central_pattern("cpg-rt-sum", dt, residual="angle-sum", protocol=p),
 }
 
 
-def make_action_space(approach: str, dt: float) -> ActionSpace:
-    """The action pipeline of `approach` at control period `dt`."""
-    return APPROACHES[approach](dt)
+def make_action_space(approach: str, dt: float, protocol: Protocol = protocols.THESIS_CODE) -> ActionSpace:
+    """The action pipeline of `approach` at control period `dt` under `protocol`."""
+    return APPROACHES[approach](dt, protocol)

@@ -15,6 +15,7 @@ from mjx_badger import enable_compilation_cache
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
+from mjx_badger.protocols import FIELDS, PROTOCOLS
 from mjx_badger.tasks import TASKS
 
 # Seed-steps (one env step and one update each) per second of CrossQ with JT on the 2-core
@@ -45,6 +46,25 @@ def writable_dir(parser: argparse.ArgumentParser, path: Path, what: str) -> Path
     return path
 
 
+def protocol_change(text: str) -> tuple:
+    """FIELD=VALUE, one protocol field set by hand (a one-factor swap)."""
+    import ast
+
+    field, sep, value = text.partition("=")
+    if not sep or field not in FIELDS:
+        raise argparse.ArgumentTypeError(f"expected FIELD=VALUE with FIELD one of: {', '.join(FIELDS)}; got {text!r}")
+    try:
+        parsed = ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        parsed = value  # a bare word such as thesis-text or butterworth
+    return field, tuple(parsed) if isinstance(parsed, list) else parsed
+
+
+def add_protocol_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--protocol", choices=list(PROTOCOLS), default="thesis-code",
+                        help="thesis-code: as the thesis's released code ran it; thesis-text: as the thesis reads")
+
+
 def add_configuration_arguments(parser: argparse.ArgumentParser) -> None:
     """--approach, --algo and --task, shared by the commands that train one configuration."""
     parser.add_argument("--approach", choices=list(APPROACHES), default="jt-oef")
@@ -64,12 +84,15 @@ def build_parser() -> argparse.ArgumentParser:
     train.add_argument("--chunk-steps", type=positive_int, default=1_000)
     train.add_argument("--warmup-steps", type=positive_int, default=1_000)
     train.add_argument("--eval-steps", type=positive_int, default=400)
-    train.add_argument("--no-action-delay", action="store_true", help="switch off the Table 5.1 action delay")
+    add_protocol_argument(train)
+    train.add_argument("--set", dest="changes", type=protocol_change, action="append", default=[], metavar="FIELD=VALUE",
+                       help="change one protocol field (repeatable), e.g. --set action_delay=False")
     train.add_argument("--out", type=Path, default=Path("results"), help="folder for the results file")
     train.add_argument("--quiet", action="store_true", help="no progress bar")
 
     reproduce = commands.add_parser("reproduce", help="run the thesis experiments of a profile, then draw figures")
     reproduce.add_argument("--profile", choices=list(PROFILES), default="quick")
+    add_protocol_argument(reproduce)
     reproduce.add_argument("--experiments", nargs="+", choices=list(EXPERIMENTS), default=list(EXPERIMENTS))
     reproduce.add_argument("--results-dir", type=Path, default=Path("results"))
     reproduce.add_argument("--figures-dir", type=Path, default=Path("figures"))
@@ -77,6 +100,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     figures = commands.add_parser("figures", help="draw figures from existing results")
     figures.add_argument("--profile", choices=list(PROFILES), default="quick")
+    add_protocol_argument(figures)
     figures.add_argument("--results-dir", type=Path, default=Path("results"))
     figures.add_argument("--figures-dir", type=Path, default=Path("figures"))
 
@@ -99,7 +123,13 @@ def build_parser() -> argparse.ArgumentParser:
     realtime.add_argument("--restart", action="store_true", help="ignore a saved checkpoint and start over")
     realtime.add_argument("--quiet", action="store_true", help="no live view")
 
-    commands.add_parser("list", help="list approaches, algorithms, tasks, experiments and profiles")
+    claims = commands.add_parser("claims", help="score the thesis's simulation claims against existing results")
+    claims.add_argument("--profile", choices=list(PROFILES), default="quick")
+    claims.add_argument("--protocol", choices=list(PROTOCOLS), default=None, help="one protocol (default: both)")
+    claims.add_argument("--results-dir", type=Path, default=Path("results"))
+    claims.add_argument("--json", type=Path, default=None, help="also write the scoreboard here")
+
+    commands.add_parser("list", help="list approaches, algorithms, tasks, experiments, profiles and protocols")
     return parser
 
 
@@ -109,7 +139,8 @@ def main(argv=None) -> int:
     enable_compilation_cache()
     if args.command == "list":
         for title, names in (("approaches", APPROACHES), ("algorithms", ALGORITHMS), ("tasks", TASKS),
-                             ("experiments", EXPERIMENTS), ("profiles", PROFILES)):
+                             ("experiments", EXPERIMENTS), ("profiles", PROFILES), ("protocols", PROTOCOLS),
+                             ("protocol fields", FIELDS)):
             print(f"{title}: {', '.join(names)}")
         return 0
     if args.command == "train":
@@ -136,6 +167,8 @@ def main(argv=None) -> int:
             parser.error("--reset-seconds must not be negative")
         writable_dir(parser, args.out, "output folder")
         return realtime_command(args, config)
+    if args.command == "claims":
+        return claims_command(args)
     if args.command == "reproduce":
         writable_dir(parser, args.results_dir, "results folder")
         writable_dir(parser, args.figures_dir, "figures folder")
@@ -165,15 +198,14 @@ def realtime_command(args, config) -> int:
 
 def train_command(args) -> int:
     from mjx_badger import runner
-    from mjx_badger.env import EnvConfig
     from mjx_badger.train import TrainConfig
 
-    algo = ALGORITHMS[args.algo]()
     config = TrainConfig(approach=args.approach, algo=args.algo, task=args.task, total_steps=args.steps,
                          chunk_steps=args.chunk_steps, warmup_steps=args.warmup_steps, eval_steps=args.eval_steps,
-                         env=EnvConfig(control_hz=algo.control_hz, action_delay=not args.no_action_delay))
+                         protocol=args.protocol, protocol_changes=tuple(args.changes))
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     out = args.out / f"{args.approach}_{args.algo}_{args.task}.json"
+    print(f"protocol {args.protocol}" + "".join(f", {k}={v!r}" for k, v in args.changes))
     document = runner.run(config, seeds, out, progress=not args.quiet)
     print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
           f"compile {document['wall_clock']['compile_s']} s)")
@@ -181,37 +213,41 @@ def train_command(args) -> int:
 
 
 def reproduce_command(args) -> int:
-    from mjx_badger import plots, results, runner
+    from mjx_badger import claims, plots, results, runner
 
     profile = PROFILES[args.profile]
+    folder = args.results_dir / args.profile / args.protocol
     todo = []
     for name in args.experiments:
         experiment = EXPERIMENTS[name]
         for run in experiment.runs:
-            path = args.results_dir / args.profile / name / result_name(run)
-            config = experiment.train_config(run, args.profile)
+            path = folder / name / result_name(run)
+            config = experiment.train_config(run, args.profile, args.protocol)
             if not args.force and _same_run(path.parent, config, list(range(profile.seeds)), path.name):
                 print(f"skip {path}: complete results of this configuration exist (--force reruns)")
                 continue
             todo.append((experiment, run, path))
     updates = sum(experiment.steps(run, args.profile) * ALGORITHMS[run.algo]().updates_per_step
                   for experiment, run, _ in todo) * profile.seeds
-    print(f"profile {args.profile}: {len(todo)} runs x {profile.seeds} seeds, {updates:,} gradient updates in all; "
+    print(f"profile {args.profile}, protocol {args.protocol}: {len(todo)} runs x {profile.seeds} seeds, {updates:,} gradient updates in all; "
           f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1 min compile per run")
     started = time.perf_counter()
     for experiment, run, path in todo:
-        config = experiment.train_config(run, args.profile)
+        config = experiment.train_config(run, args.profile, args.protocol)
         seeds = list(range(profile.seeds))
-        twin = _same_run(args.results_dir / args.profile, config, seeds)
+        twin = _same_run(folder, config, seeds)
         if twin is not None and not args.force:
             # Experiments share runs (CrossQ JT-NF forward is in two); a run is deterministic per seed.
             print(f"reuse {twin} for {path}: the same configuration and seeds")
             results.write(path, results.read(twin))
             continue
         runner.run(config, seeds, path, progress=sys.stderr.isatty() or os.environ.get("CI") is None)
-    for path in plots.draw(args.results_dir / args.profile, args.figures_dir, args.profile, args.experiments):
+    for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
         print(f"wrote {path}")
     print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
+    print()
+    print(claims.scoreboard_text(claims.score(args.results_dir / args.profile, args.protocol), args.profile,
+                                 args.protocol))
     return 0
 
 
@@ -236,10 +272,26 @@ def _same_run(folder: Path, config, seeds, pattern: str | None = None):
 def figures_command(args) -> int:
     from mjx_badger import plots
 
-    written = plots.draw(args.results_dir / args.profile, args.figures_dir, args.profile)
+    folder = args.results_dir / args.profile / args.protocol
+    written = plots.draw(folder, args.figures_dir, args.profile, protocol=args.protocol)
     if not written:
-        print(f"no results under {args.results_dir / args.profile}", file=sys.stderr)
+        print(f"no results under {folder}", file=sys.stderr)
         return 1
     for path in written:
         print(f"wrote {path}")
+    return 0
+
+
+def claims_command(args) -> int:
+    from mjx_badger import claims
+
+    names = [args.protocol] if args.protocol else list(PROTOCOLS)
+    boards = {name: claims.score(args.results_dir / args.profile, name) for name in names}
+    for name, board in boards.items():
+        print(claims.scoreboard_text(board, args.profile, name))
+        print()
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
+                                        indent=1))
     return 0

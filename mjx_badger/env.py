@@ -3,22 +3,25 @@
 Follows brax's `Env` / `State` conventions (state.pipeline_state is the `mjx.Data`,
 `state.info` a dict of per-episode variables), so brax's own wrappers and trainers can
 drive it. The environment knows nothing of agents: it sees only actions and returns
-observations.
+observations. Everything on which the thesis's code and text differ comes from the
+protocol in `EnvConfig` (protocols.py).
 
 Observation (thesis Table 4.1, trunk frame): 54 values for the joint-target approaches,
 56 for the CPG approaches:
     [0:12]  joint angle - nominal pose (rad)           order FL, FR, RL, RR x hip, thigh, knee
-    [12:24] joint velocity (rad/s) x 0.1
-    [24:36] JT: predicted joint angle, the applied target - nominal pose (rad)
-            CPG: predicted feet position, commanded foot positions - nominal ones (m) x 5
-    [36:39] trunk linear acceleration, IMU accelerometer (m/s^2, includes gravity) x 0.1
-    [39:42] trunk angular acceleration, gyro difference over a control period (rad/s^2) x 0.01
+    [12:24] joint velocity (rad/s)
+    [24:36] JT: the applied target - nominal pose (rad, the filtered action)
+            CPG, thesis-text: commanded foot positions - nominal ones (m); thesis-code: the scaled action
+    [36:39] trunk linear acceleration: thesis-text the IMU accelerometer (with gravity);
+            thesis-code the free joint's acceleration (without gravity), both in the trunk frame
+    [39:42] trunk angular acceleration: thesis-text the gyro difference over a control period;
+            thesis-code the free joint's angular acceleration
     [42:45] trunk linear velocity (m/s)
-    [45:48] trunk angular velocity, IMU gyro (rad/s)
+    [45:48] trunk angular velocity (rad/s)
     [48:51] target velocities [vx, vy, yaw rate]
     [51:54] projected gravity (unit vector)
-    [54:56] CPG only: CPG progress, the phase as (1 + sin, 1 + cos) / 2
-The scale factors only bring each block to order one; `observation_layout` lists them.
+    [54:56] CPG only: thesis-text the phase as (1 + sin, 1 + cos) / 2; thesis-code the two swing heights
+Each block is multiplied by its protocol's scale; `observation_layout` lists them.
 """
 
 import contextlib
@@ -36,82 +39,96 @@ with contextlib.redirect_stdout(io.StringIO()):
     from brax.envs.base import Env, State
     from mujoco import mjx
 
-from mjx_badger import actions, rewards, robot, tasks
+from mjx_badger import actions, protocols, rewards, robot, tasks
+from mjx_badger.protocols import Protocol
 
-def observation_layout(action_space: actions.ActionSpace) -> tuple:
+# Fixed scale factors that bring each block to order one (thesis-text), and the released
+# code's divisors (thesis-code, THESIS_CODE §4: q / 3.14, qdot / 25, action / 3.14, omega / 10).
+TEXT_SCALES = {"joint_angle": 1.0, "joint_velocity": 0.1, "predicted_joint_angle": 1.0, "predicted_feet_position": 5.0,
+               "trunk_linear_acceleration": 0.1, "trunk_angular_acceleration": 0.01, "trunk_angular_velocity": 1.0}
+CODE_SCALES = {"joint_angle": 1 / 3.14, "joint_velocity": 1 / 25, "predicted_joint_angle": 1 / 3.14,
+               "predicted_feet_position": 1 / 3.14, "trunk_linear_acceleration": 1.0,
+               "trunk_angular_acceleration": 1.0, "trunk_angular_velocity": 0.1}
+
+
+def observation_layout(action_space: actions.ActionSpace, protocol: Protocol = protocols.THESIS_CODE) -> tuple:
     """(name, size, scale) of every observation block for an approach's action space."""
-    predicted = (("predicted_joint_angle", 12, 1.0) if action_space.predicted_name == "joint_angle"
-                 else ("predicted_feet_position", 12, 5.0))
-    layout = (
-        ("joint_angle", 12, 1.0),
-        ("joint_velocity", 12, 0.1),
-        predicted,
-        ("trunk_linear_acceleration", 3, 0.1),
-        ("trunk_angular_acceleration", 3, 0.01),
-        ("trunk_linear_velocity", 3, 1.0),
-        ("trunk_angular_velocity", 3, 1.0),
-        ("target_velocity", 3, 1.0),
-        ("projected_gravity", 3, 1.0),
-    )
-    return layout + ((("cpg_progress", action_space.extra_size, 1.0),) if action_space.extra_size else ())
+    scales = CODE_SCALES if protocol.observation == "thesis-code" else TEXT_SCALES
+    predicted = "predicted_joint_angle" if action_space.predicted_name == "joint_angle" else "predicted_feet_position"
+    sizes = (("joint_angle", 12), ("joint_velocity", 12), (predicted, 12), ("trunk_linear_acceleration", 3),
+             ("trunk_angular_acceleration", 3), ("trunk_linear_velocity", 3), ("trunk_angular_velocity", 3),
+             ("target_velocity", 3), ("projected_gravity", 3))
+    if action_space.extra_size:
+        sizes += (("cpg_progress", action_space.extra_size),)
+    return tuple((name, size, scales.get(name, 1.0)) for name, size in sizes)
 
 
 # A foot touches the floor when its sphere centre is within this of the sphere radius (flat ground).
 CONTACT_TOLERANCE_M = 0.003
+# thesis-text termination (our reading): a fall is a tilt beyond 0.8 rad (about 46 degrees) or the
+# trunk centre below 0.15 m (trunk or hips at the floor).
+TEXT_FALL_TILT_RAD = 0.8
+TEXT_FALL_HEIGHT_M = 0.15
+# thesis-code termination (THESIS_CODE §6).
+CODE_FALL_TILT_RAD = np.deg2rad(30.0)
+CODE_FALL_ANGULAR_SPEED = 4.0
+CODE_POWER_LIMIT_W = 1500.0
+CODE_POWER_STEPS = 3
+
+
+def roll_pitch(rot):
+    """Roll and pitch (rad) of a body-to-world rotation matrix (3, 3)."""
+    return jnp.arctan2(rot[2, 1], rot[2, 2]), jnp.arcsin(jnp.clip(-rot[2, 0], -1.0, 1.0))
 
 
 @dataclasses.dataclass(frozen=True)
 class EnvConfig:
-    """Static settings of the environment (thesis Table 5.1)."""
+    """Static settings of the environment: the protocol and the control rate it gives an approach."""
 
-    control_hz: float = 40.0
-    """Policy rate; physics runs at 200 Hz, so 40 Hz is 5 physics steps per action."""
-    episode_seconds: float = 20.0
-    """Episode length in simulated seconds (800 steps at 40 Hz, 400 at 20 Hz)."""
-    action_delay: bool = True
-    """Apply the Table 5.1 action delay |0.03 + e| s, e ~ N(0, 0.05^2), per control step."""
-    delay_mean_s: float = 0.03
-    delay_std_s: float = 0.05
-    fall_tilt_rad: float = 0.8
-    """A fall: roll or pitch beyond this (about 46 degrees) ..."""
-    fall_height_m: float = 0.15
-    """... or the trunk centre below this height (trunk or hips at the floor; standing is 0.34 m)."""
+    control_hz: float | None = None
+    """Policy rate; None: the protocol's rate for the approach, trained by CrossQ. Physics runs at 200 Hz."""
+    protocol: Protocol = protocols.THESIS_CODE
+    """Every choice on which the thesis's code and text differ (protocols.py)."""
 
-    @property
-    def substeps(self) -> int:
-        """Physics steps per control step."""
-        return int(round(1.0 / (self.control_hz * robot.PHYSICS_DT)))
-
-    @property
-    def control_dt(self) -> float:
-        return self.substeps * robot.PHYSICS_DT
-
-    @property
-    def episode_steps(self) -> int:
-        return int(round(self.episode_seconds / self.control_dt))
+    def rate(self, approach: str) -> float:
+        """The control rate of `approach` under this configuration."""
+        if self.control_hz is not None:
+            return self.control_hz
+        return self.protocol.control_hz(actions.is_cpg(approach), "crossq")
 
 
 class HB40Env(Env):
     """The HB40 on flat ground with one approach (action pipeline) and one task."""
 
-    def __init__(self, approach: str = "jt-nf", task: "str | tasks.Task" = "forward", config: EnvConfig | None = None):
+    def __init__(self, approach: str = "jt-nf", task: "str | tasks.Task" = "forward", config: EnvConfig | None = None,
+                 spec: robot.RobotSpec = robot.HB40):
         self.config = EnvConfig() if config is None else config
-        self.action_space = actions.make_action_space(approach, self.config.control_dt)
-        self.task = tasks.make_task(task) if isinstance(task, str) else task
-        self.observation_layout = observation_layout(self.action_space)
-        self.mj_model = robot.load_model(split_pd=self.action_space.split_pd)
+        self.protocol = self.config.protocol
+        self.spec = spec
+        self.control_hz = self.config.rate(approach)
+        self.substeps = int(round(1.0 / (self.control_hz * spec.physics_dt)))
+        self.control_dt = self.substeps * spec.physics_dt
+        self.episode_steps = int(round(self.protocol.episode_seconds / self.control_dt))
+        self.is_cpg = actions.is_cpg(approach)
+        self.terminates = self.protocol.cpg_terminates or not self.is_cpg
+        self.action_space = actions.make_action_space(approach, self.control_dt, self.protocol)
+        self.task = tasks.make_task(task, self.protocol.rewards) if isinstance(task, str) else task
+        self.observation_layout = observation_layout(self.action_space, self.protocol)
+        self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd)
+        robot.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg))
         self.mjx_model = mjx.put_model(self.mj_model)
+        self._kp, self._kd = self.protocol.pd_gains(self.is_cpg)
         self._trunk = self.mj_model.body("trunk").id
         self._feet = np.array([self.mj_model.geom(name).id for name in robot.FOOT_GEOMS])
-        self._foot_radius = float(self.mj_model.geom_size[self._feet[0], 0])
         self._accel = robot.sensor_slice(self.mj_model, "accelerometer")
         self._gyro = robot.sensor_slice(self.mj_model, "gyro")
+        self._trunk_half = jnp.asarray(spec.trunk_half_size)
         data = mujoco.MjData(self.mj_model)
-        data.qpos[:] = robot.standing_qpos(self.mj_model)
+        data.qpos[:] = robot.standing_qpos(self.mj_model, spec)
         data.ctrl[:] = self.action_space.rest_ctrl()
         mujoco.mj_forward(self.mj_model, data)
         self._init_data = mjx.put_data(self.mj_model, data)
-        self._nominal = jnp.asarray(robot.NOMINAL_POSE)
+        self._nominal = jnp.asarray(robot.nominal_pose(spec))
         self._obs_scale = jnp.asarray(np.concatenate(
             [np.full(size, scale) for _, size, scale in self.observation_layout]).astype(np.float32))
 
@@ -128,7 +145,7 @@ class HB40Env(Env):
         return "mjx"
 
     def reset(self, rng: jax.Array, command: jax.Array | None = None) -> State:
-        """A new episode: robot standing in the nominal pose, a command from the task (or `command`)."""
+        """A new episode: robot above its nominal pose at the home height, a command from the task (or `command`)."""
         key, command_key = jax.random.split(rng)
         task_state, drawn = self.task.command(self.task.init(), command_key)
         command = drawn if command is None else jnp.asarray(command, dtype=jnp.float32)
@@ -138,6 +155,8 @@ class HB40Env(Env):
             **episode,
             "task_state": task_state,
             "falls": jnp.int32(0),
+            "would_falls": jnp.int32(0),
+            "fallen": jnp.bool_(False),
             "terminated": jnp.bool_(False),
             "truncated": jnp.bool_(False),
             "next_obs": obs,
@@ -146,7 +165,7 @@ class HB40Env(Env):
         return State(data, obs, jnp.float32(0.0), jnp.float32(0.0), metrics, info)
 
     def step(self, state: State, action: jax.Array) -> State:
-        """One control step: act, run the delayed PD physics, score, auto-reset."""
+        """One control step: act, run the PD physics, score, auto-reset."""
         return self.traced_step(state, action)[0]
 
     def traced_step(self, state: State, action: jax.Array):
@@ -156,28 +175,32 @@ class HB40Env(Env):
         action_state, target = self.action_space.step(info["action_state"], action)
         delay_steps = self._delay_steps(delay_key)
         previous_target = info["target"]
+        clip = self.protocol.joint_velocity_clip
 
-        def physics_step(data, i):
+        def physics_step(carry, i):
+            data, _ = carry
             # The new target reaches the motors only after the sampled delay (Table 5.1).
             ctrl = jnp.where(i < delay_steps, previous_target, target)
+            # The PD torque before the motor limit: what the released code's power rule and energy term see.
+            torque = self._kp * (ctrl[:12] - data.qpos[7:]) - self._kd * data.qvel[6:]
             data = mjx.step(self.mjx_model, data.replace(ctrl=ctrl))
-            return data, self._trace(data)
+            if clip is not None:
+                data = data.replace(qvel=data.qvel.at[6:].set(jnp.clip(data.qvel[6:], -clip, clip)))
+            return (data, torque), self._trace(data)
 
-        data, trace = jax.lax.scan(physics_step, state.pipeline_state, jnp.arange(self.config.substeps))
+        (data, torque), trace = jax.lax.scan(physics_step, (state.pipeline_state, jnp.zeros(12)),
+                                             jnp.arange(self.substeps))
         command = info["command"]
-        obs, motion = self._observe(data, action_state, command, info["prev_gyro"])
+        obs, motion = self._observe(data, action_state, command, info["prev_gyro"], torque)
         reward, contributions = self.task.reward(motion, command)
         task_state = self.task.update(info["task_state"], command, motion)
 
-        height = data.qpos[2]
-        terminated = (
-            (jnp.abs(motion.roll) > self.config.fall_tilt_rad)
-            | (jnp.abs(motion.pitch) > self.config.fall_tilt_rad)
-            | (height < self.config.fall_height_m)
-            | ~jnp.all(jnp.isfinite(obs))
-        )
+        power_steps = jnp.where(jnp.sum(jnp.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W,
+                                info["power_steps"] + 1, 0)
+        fallen = self._fall_rule(data, motion, power_steps) | ~jnp.all(jnp.isfinite(obs))
+        terminated = fallen if self.terminates else jnp.bool_(False)
         step = info["step"] + 1
-        truncated = (step >= self.config.episode_steps) & ~terminated
+        truncated = (step >= self.episode_steps) & ~terminated
         done = terminated | truncated
 
         along, lateral = rewards.along_and_lateral(motion.linear_velocity[:2], command[:2])
@@ -186,7 +209,7 @@ class HB40Env(Env):
             forward_velocity=motion.linear_velocity[0],
             lateral_velocity=motion.linear_velocity[1],
             yaw_rate=motion.angular_velocity[2],
-            height=height,
+            height=data.qpos[2],
             desired_velocity=along,
             command_lateral_velocity=lateral,
             desired_error=jnp.abs(along - jnp.linalg.norm(command[:2])),
@@ -198,9 +221,13 @@ class HB40Env(Env):
             action_state=action_state,
             target=target,
             prev_gyro=data.sensordata[self._gyro],
+            power_steps=power_steps,
             step=step,
             task_state=task_state,
             falls=info["falls"] + terminated.astype(jnp.int32),
+            # A would-be fall is counted when the rule starts firing, not for every step it keeps firing.
+            would_falls=info["would_falls"] + (fallen & ~info["fallen"]).astype(jnp.int32),
+            fallen=fallen & ~done,
             terminated=terminated,
             truncated=truncated,
             next_obs=obs,
@@ -208,18 +235,30 @@ class HB40Env(Env):
         state = State(data, obs, reward, done.astype(jnp.float32), metrics, info)
         return self._auto_reset(state, reset_key), trace
 
+    def _fall_rule(self, data, motion, power_steps):
+        """Whether the protocol's termination rule fires on this step."""
+        rot = data.xmat[self._trunk]
+        if self.protocol.termination == "tilt-height":
+            return ((jnp.abs(motion.roll) > TEXT_FALL_TILT_RAD) | (jnp.abs(motion.pitch) > TEXT_FALL_TILT_RAD)
+                    | (data.qpos[2] < TEXT_FALL_HEIGHT_M))
+        # The trunk box's lowest corner at the floor: the trunk-floor contact (a box on a plane).
+        trunk_bottom = data.xpos[self._trunk, 2] - jnp.sum(jnp.abs(rot[2]) * self._trunk_half)
+        return ((jnp.abs(motion.roll) >= CODE_FALL_TILT_RAD) | (jnp.abs(motion.pitch) >= CODE_FALL_TILT_RAD)
+                | (jnp.linalg.norm(data.qvel[3:6]) > CODE_FALL_ANGULAR_SPEED) | (trunk_bottom <= 0.0)
+                | (power_steps >= CODE_POWER_STEPS))
+
     def _fresh_episode(self, command):
         """Initial physics data, observation and per-episode info of an episode under `command`."""
         data = self._init_data
         action_state = self.action_space.init()
         gyro = data.sensordata[self._gyro]
-        obs, _ = self._observe(data, action_state, command, gyro)
+        obs, _ = self._observe(data, action_state, command, gyro, jnp.zeros(12))
         episode = {"action_state": action_state, "target": self.action_space.rest_ctrl(), "command": command,
-                   "prev_gyro": gyro, "step": jnp.int32(0)}
+                   "prev_gyro": gyro, "step": jnp.int32(0), "power_steps": jnp.int32(0)}
         return data, obs, episode
 
     def _auto_reset(self, state: State, key: jax.Array) -> State:
-        """Replace a finished episode by a fresh one; the task state (curriculum), fall count and
+        """Replace a finished episode by a fresh one; the task state (curriculum), fall counts and
         `info['next_obs']` (the finished episode's last observation) carry over."""
         done = state.done > 0
         task_state, command = self.task.command(state.info["task_state"], key)
@@ -230,41 +269,48 @@ class HB40Env(Env):
         return state.replace(pipeline_state=pick(data, state.pipeline_state), obs=pick(obs, state.obs), info=info)
 
     def _delay_steps(self, key):
-        """Physics steps before a new target takes effect, capped at one control period."""
-        if not self.config.action_delay:
+        """Physics steps before a new target takes effect (Table 5.1), capped at one control period."""
+        if not self.protocol.action_delay:
             return 0
-        delay = jnp.abs(self.config.delay_mean_s + self.config.delay_std_s * jax.random.normal(key))
-        return jnp.clip(jnp.round(delay / robot.PHYSICS_DT), 0, self.config.substeps).astype(jnp.int32)
+        delay = jnp.abs(0.03 + 0.05 * jax.random.normal(key))
+        return jnp.clip(jnp.round(delay / self.spec.physics_dt), 0, self.substeps).astype(jnp.int32)
 
     def _trace(self, data):
         """Foot contact flags (4,) and trunk-frame forward velocity at one physics step."""
-        contact = data.geom_xpos[self._feet, 2] <= self._foot_radius + CONTACT_TOLERANCE_M
+        contact = data.geom_xpos[self._feet, 2] <= self.spec.foot_radius + CONTACT_TOLERANCE_M
         forward = data.xmat[self._trunk][:, 0] @ data.qvel[:3]
         return contact, forward
 
-    def _observe(self, data, action_state, command, prev_gyro):
+    def _observe(self, data, action_state, command, prev_gyro, torque):
         """Observation vector and the raw trunk motion the reward needs."""
         rot = data.xmat[self._trunk]  # body-to-world
         linear_velocity = rot.T @ data.qvel[:3]
         gyro = data.sensordata[self._gyro]
         gravity = rot.T @ jnp.array([0.0, 0.0, -1.0])
-        roll = jnp.arctan2(rot[2, 1], rot[2, 2])
-        pitch = jnp.arcsin(jnp.clip(-rot[2, 0], -1.0, 1.0))
-        obs = self.observation(data.qpos[7:], data.qvel[6:], action_state, data.sensordata[self._accel], gyro,
-                               prev_gyro, linear_velocity, command, gravity)
-        motion = tasks.Motion(linear_velocity, gyro, roll, pitch, data.qfrc_actuator[6:])
-        return obs, motion
+        roll, pitch = roll_pitch(rot)
+        if self.protocol.observation == "thesis-code":
+            acceleration, angular_velocity = rot.T @ data.qacc[:3], data.qvel[3:6]
+            angular_acceleration = data.qacc[3:6]
+        else:
+            acceleration, angular_velocity = data.sensordata[self._accel], gyro
+            angular_acceleration = (gyro - prev_gyro) / self.control_dt
+        predicted, extra = self.action_space.observe(action_state)
+        obs = jnp.concatenate([data.qpos[7:] - self._nominal, data.qvel[6:], predicted, acceleration,
+                               angular_acceleration, linear_velocity, angular_velocity, command, gravity, extra])
+        applied = torque if self.protocol.rewards == "thesis-code" else data.qfrc_actuator[6:]
+        motion = tasks.Motion(linear_velocity, angular_velocity, roll, pitch, applied)
+        return obs * self._obs_scale, motion
 
     def observation(self, joint_angle, joint_velocity, action_state, acceleration, angular_velocity,
                     prev_angular_velocity, linear_velocity, command, gravity):
-        """The Table 4.1 observation from measured quantities; the on-robot loop builds it the same way."""
+        """The thesis-text observation from measured quantities, as the on-robot loop builds it."""
         predicted, extra = self.action_space.observe(action_state)
         return jnp.concatenate([
             joint_angle - self._nominal,
             joint_velocity,
             predicted,
             acceleration,
-            (angular_velocity - prev_angular_velocity) / self.config.control_dt,
+            (angular_velocity - prev_angular_velocity) / self.control_dt,
             linear_velocity,
             angular_velocity,
             command,

@@ -53,11 +53,13 @@ class Experiment:
     def steps(self, run: Run, profile_name: str) -> int:
         return min(PROFILES[profile_name].steps, self.step_caps.get(profile_name, {}).get(run.algo, 10**12))
 
-    def train_config(self, run: Run, profile_name: str) -> TrainConfig:
+    def train_config(self, run: Run, profile_name: str, protocol: str = "thesis-code",
+                     protocol_changes: tuple = ()) -> TrainConfig:
         profile = PROFILES[profile_name]
         return TrainConfig(approach=run.approach, algo=run.algo, task=run.task,
                            total_steps=self.steps(run, profile_name), chunk_steps=profile.chunk_steps,
-                           warmup_steps=profile.warmup_steps, eval_steps=profile.eval_steps)
+                           warmup_steps=profile.warmup_steps, eval_steps=profile.eval_steps, protocol=protocol,
+                           protocol_changes=protocol_changes)
 
 
 APPROACHES = ("jt-nf", "jt-lpf", "jt-oef", "cpg-d", "cpg-vf", "cpg-rt")

@@ -1,39 +1,47 @@
 """Analytic leg kinematics of the HB40: foot position in the hip frame <-> [hip, thigh, knee].
 
 The hip frame of a leg sits at its hip (abduction) joint with the trunk's axes: x forward,
-y left, z up. The geometry is the MJCF's (assets/hb40.xml): the thigh joint is offset
-0.0555 m forward (front legs) or backward (rear legs) and 0.0125 m outward of the hip
-joint, thigh and calf are 0.2 m, and the foot-sphere centre is the end of the calf.
-All functions work on one leg (3,) or all legs (4, 3) and are jit/vmap friendly.
+y left, z up. The geometry and joint convention are the robot spec's (robot.py). In a leg's
+sagittal plane the thigh points `alpha` behind vertical and the calf `gamma`; with the spec's
+zeros, alpha = phi0 + a and gamma = alpha + kappa0 + b, where a and b are the thigh and knee
+angles turned into one physical sense (x LEFT_SIGN) and phi0, kappa0 the spec's zero angles.
+All functions work on all legs (4, 3) or (12,) and are jit/vmap friendly.
+
+`thesis_code_ik` is the other inverse kinematics: the one the released code's CPG uses, with
+its own link lengths, in its own leg frames, whose angles go to the joints unchanged.
 """
+
+import math
 
 import jax.numpy as jnp
 import numpy as np
 
 from mjx_badger import robot
+from mjx_badger.robot import FRONT_SIGN, LEFT_SIGN
 
-THIGH_LENGTH = 0.2
-CALF_LENGTH = 0.2
-THIGH_OFFSET_X = 0.0555
-THIGH_OFFSET_Y = 0.0125
-# Per leg (FL, FR, RL, RR): +1 front / -1 rear, +1 left / -1 right.
-FRONT_SIGN = np.array([1.0, 1.0, -1.0, -1.0])
-LEFT_SIGN = np.array([1.0, -1.0, 1.0, -1.0])
-HIP_X, HIP_Y = 0.1375, 0.064
-HIP_POSITIONS = np.stack([FRONT_SIGN * HIP_X, LEFT_SIGN * HIP_Y, np.zeros(4)], axis=-1)
+SPEC = robot.HB40
+PHI0 = math.radians(SPEC.thigh_zero_behind_vertical_deg)
+KAPPA0 = math.radians(SPEC.knee_zero_interior_deg)
+L1, L2 = SPEC.thigh_length, SPEC.calf_length
+LATERAL = SPEC.thigh_offset_y + SPEC.knee_outboard + SPEC.foot_outboard
+"""Outboard distance of the foot from the hip joint in the leg's own (unabducted) frame."""
+HIP_POSITIONS = np.stack([FRONT_SIGN * SPEC.hip_x, LEFT_SIGN * SPEC.hip_y, np.zeros(4)], axis=-1)
 """Hip (abduction) joints in the trunk frame (4, 3); a foot in the trunk frame is this + forward()."""
-JOINT_LOWER = np.tile([-1.57, -1.57, -2.53], 4).reshape(4, 3)
-JOINT_UPPER = np.tile([1.57, 1.57, 0.0], 4).reshape(4, 3)
+JOINT_LOWER, JOINT_UPPER = robot.joint_limits(SPEC)
+_SIGNS = robot.joint_signs(SPEC)
 
 
 def forward(angles):
     """Foot positions (4, 3) in the hip frames from joint angles (4, 3) or (12,)."""
     q = jnp.reshape(angles, (4, 3))
-    hip, thigh, knee = q[:, 0], q[:, 1], q[:, 2]
-    # In the frame turned with the hip joint, the leg moves in the x-z plane.
-    x = FRONT_SIGN * THIGH_OFFSET_X - THIGH_LENGTH * jnp.sin(thigh) - CALF_LENGTH * jnp.sin(thigh + knee)
-    y = LEFT_SIGN * THIGH_OFFSET_Y
-    z = -THIGH_LENGTH * jnp.cos(thigh) - CALF_LENGTH * jnp.cos(thigh + knee)
+    a = LEFT_SIGN * q[:, 1]
+    b = LEFT_SIGN * q[:, 2]
+    alpha = PHI0 + a
+    gamma = alpha + KAPPA0 + b
+    x = FRONT_SIGN * SPEC.thigh_offset_x - L1 * jnp.sin(alpha) + L2 * jnp.sin(gamma)
+    z = -L1 * jnp.cos(alpha) + L2 * jnp.cos(gamma)
+    y = LEFT_SIGN * LATERAL
+    hip = FRONT_SIGN * q[:, 0]  # the rear hips turn about -x
     c, s = jnp.cos(hip), jnp.sin(hip)
     return jnp.stack([x, c * y - s * z, s * y + c * z], axis=-1)
 
@@ -46,20 +54,54 @@ def inverse(feet):
     """
     p = jnp.reshape(feet, (4, 3))
     px, py, pz = p[:, 0], p[:, 1], p[:, 2]
-    side = LEFT_SIGN * THIGH_OFFSET_Y
-    # Length of the leg's projection on the hip's y-z plane, below the thigh joint.
+    side = LEFT_SIGN * LATERAL
+    # The leg's drop below the hip in its own abducted plane.
     height = jnp.sqrt(jnp.maximum(py**2 + pz**2 - side**2, 1e-8))
-    hip = jnp.arctan2(pz, py) - jnp.arctan2(-height, side)
-    hip = jnp.arctan2(jnp.sin(hip), jnp.cos(hip))
-    along = -(px - FRONT_SIGN * THIGH_OFFSET_X)
-    reach2 = along**2 + height**2
-    cos_knee = (reach2 - THIGH_LENGTH**2 - CALF_LENGTH**2) / (2 * THIGH_LENGTH * CALF_LENGTH)
-    knee = -jnp.arccos(jnp.clip(cos_knee, -1.0, 1.0))
-    thigh = jnp.arctan2(along, height) - jnp.arctan2(CALF_LENGTH * jnp.sin(knee),
-                                                      THIGH_LENGTH + CALF_LENGTH * jnp.cos(knee))
-    angles = jnp.stack([hip, thigh, knee], axis=-1)
+    psi = jnp.arctan2(pz, py) - jnp.arctan2(-height, side)
+    psi = jnp.arctan2(jnp.sin(psi), jnp.cos(psi))
+    xs = px - FRONT_SIGN * SPEC.thigh_offset_x
+    reach = jnp.sqrt(xs**2 + height**2)
+    interior = jnp.arccos(jnp.clip((L1**2 + L2**2 - reach**2) / (2 * L1 * L2), -1.0, 1.0))
+    at_thigh = jnp.arccos(jnp.clip((L1**2 + reach**2 - L2**2) / (2 * L1 * jnp.maximum(reach, 1e-6)), -1.0, 1.0))
+    foot_line = jnp.arctan2(-xs, height)  # foot direction, behind vertical
+    a = foot_line + at_thigh - PHI0
+    b = interior - KAPPA0
+    angles = jnp.stack([FRONT_SIGN * psi, LEFT_SIGN * a, LEFT_SIGN * b], axis=-1)
     return jnp.clip(angles, JOINT_LOWER, JOINT_UPPER)
 
 
-NOMINAL_FEET = np.asarray(forward(robot.NOMINAL_POSE))
-"""Foot positions (4, 3) of the nominal standing pose, the CPG's stance reference."""
+NOMINAL_FEET = np.asarray(forward(robot.nominal_pose(SPEC)))
+"""Foot positions (4, 3) of the nominal standing pose, the thesis-text CPG's stance reference."""
+
+# The released code's CPG inverse kinematics (C/control_functions/inverse_kinematics.py): its
+# own link lengths (not the model's 0.2 / 0.2), a 0.335 m reach clamp, and its own leg frames.
+THESIS_IK_HIP_TO_THIGH = 0.0525
+THESIS_IK_FEMUR = 0.18
+THESIS_IK_TIBIA = 0.177
+THESIS_IK_REACH = 0.335
+
+
+def thesis_code_ik(targets):
+    """Joint angles (4, 3) the released code's IK gives for foot targets (4, 3) in its leg frames.
+
+    Its angles are relative to a folded knee and a horizontal thigh, so they land on the
+    model's joints with the model's own 13.3-degree knee fold added: that is how the
+    released CPG stands with its feet 0.30 m below the hips though it asks for 0.25 m.
+    Per leg, left legs mirror y and the sagittal angles, rear legs the hip angle once more.
+    """
+    p = jnp.reshape(targets, (4, 3))
+    norm = jnp.linalg.norm(p, axis=-1, keepdims=True)
+    p = jnp.where(norm > THESIS_IK_REACH, p / norm * THESIS_IK_REACH, p)
+    x = p[:, 0] - THESIS_IK_HIP_TO_THIGH
+    y = -LEFT_SIGN * p[:, 1]
+    z = p[:, 2]
+    l_zy = jnp.sqrt(y**2 + z**2)
+    hip = jnp.arcsin(jnp.clip(y / l_zy, -1.0, 1.0))
+    reach = jnp.sqrt(l_zy**2 + x**2)
+    f, t = THESIS_IK_FEMUR, THESIS_IK_TIBIA
+    knee = -jnp.arccos(jnp.clip((reach**2 - f**2 - t**2) / (-2.0 * f * t), -1.0, 1.0))
+    thigh = (jnp.pi / 2 + jnp.arcsin(jnp.clip(x / reach, -1.0, 1.0))
+             - jnp.arccos(jnp.clip((t**2 - f**2 - reach**2) / (-2.0 * f * reach), -1.0, 1.0)))
+    mirror = -LEFT_SIGN  # left legs flip every angle ...
+    hip = hip * mirror * FRONT_SIGN  # ... and rear legs their hip once more
+    return jnp.stack([hip, thigh * mirror, knee * mirror], axis=-1)

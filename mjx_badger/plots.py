@@ -170,7 +170,7 @@ def learning_curves(experiment: Experiment, documents: dict, out: Path, profile:
         target = experiment.target_velocity if metric.endswith("forward_velocity") else None
         curve_panel(ax, documents, metric, title, ylabel, x_axis, target)
     axes[0].legend(loc="best", fontsize=8)
-    fig.suptitle(f"{thesis_note[0]}, {profile} profile ({_seeds_note(documents)})\n"
+    fig.suptitle(f"{thesis_note[0]}, {profile} ({_seeds_note(documents)})\n"
                  f"thesis {experiment.thesis_figure} (10 seeds, 50k steps): {thesis_note[1]}", fontsize=10)
     return _save(fig, out)
 
@@ -204,7 +204,7 @@ def gait_figure(experiment: Experiment, documents: dict, out: Path, profile: str
     axes[-1, 0].set_xlabel("time [s] (stance shaded)")
     axes[-1, 1].set_xlabel("time [s]" + ("" if target is None else f" (below {target} m/s shaded red)"))
     fig.suptitle(f"{experiment.name}: gait and forward velocity over one second after training, deterministic "
-                 f"policy, seed 0 ({profile} profile); thesis {experiment.thesis_figure}", fontsize=10)
+                 f"policy, seed 0 ({profile}); thesis {experiment.thesis_figure}", fontsize=10)
     return _save(fig, out)
 
 
@@ -229,7 +229,7 @@ def direction_figure(experiment: Experiment, documents: dict, out: Path, profile
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=8)
     fig.suptitle(f"{experiment.name}: deterministic evaluation every chunk in four directions at 0.5 and 0.25 m/s "
-                 f"({profile} profile, {_seeds_note(documents)}); thesis {experiment.thesis_figure}", fontsize=10)
+                 f"({profile}, {_seeds_note(documents)}); thesis {experiment.thesis_figure}", fontsize=10)
     return _save(fig, out)
 
 
@@ -282,7 +282,7 @@ def pdec_versus_random_figure(pdec: dict, random: dict, out: Path, profile: str)
         curve_panel(ax, {k: v for k, v in random.items() if k in pdec}, metric, label, label,
                     style={"ls": "--", "label": None})
     axes[0].legend(fontsize=8, title="solid PDEC, dashed random", title_fontsize=8)
-    fig.suptitle(f"Curriculum (PDEC) vs random commands, evaluation over 8 runs ({profile} profile); "
+    fig.suptitle(f"Curriculum (PDEC) vs random commands, evaluation over 8 runs ({profile}); "
                  "thesis Fig 5.12: the curriculum improves every CPG approach, desired MAE ~0.05 m/s", fontsize=10)
     return _save(fig, out)
 
@@ -404,7 +404,7 @@ def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
     axes = axes.ravel()
     for ax, (name, (metric, title, x_axis, target)) in zip(axes, headline.items()):
         if not loaded.get(name):
-            ax.text(0.5, 0.5, f"no {name} results yet:\npython -m mjx_badger reproduce\n--profile {profile} "
+            ax.text(0.5, 0.5, f"no {name} results yet:\npython -m mjx_badger reproduce\n--profile {profile.split()[0]} "
                     f"--experiments {name}", ha="center", va="center", fontsize=9, color="0.4", transform=ax.transAxes)
             ax.set_title(title, fontsize=10)
             ax.set_xticks([])
@@ -424,7 +424,7 @@ def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
     falls_ax.set_title("falls during training, mean over seeds", fontsize=10)
     falls_ax.legend(fontsize=7)
     falls_ax.grid(alpha=0.3, axis="y")
-    fig.suptitle(f"mjx_badger: every thesis simulation experiment at a glance ({profile} profile)", fontsize=12)
+    fig.suptitle(f"mjx_badger: every thesis simulation experiment at a glance ({profile})", fontsize=12)
     return _save(fig, out)
 
 
@@ -498,29 +498,35 @@ def realtime_figure(document: dict, trace: np.ndarray, out: Path) -> Path:
     return _save(fig, out)
 
 
-def draw(results_dir: Path, figures_dir: Path, profile: str, names=None) -> list[Path]:
-    """Draw every figure and table whose results exist; returns the files written."""
+def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protocol: str = "thesis-code") -> list[Path]:
+    """Draw every figure and table whose results exist; returns the files written.
+
+    `results_dir` holds one protocol's experiments; files go to figures_dir/<protocol>/ and every
+    title names the profile and the protocol.
+    """
     written = []
-    figures_dir = Path(figures_dir)
+    figures_dir = Path(figures_dir) / protocol
+    figures_dir.mkdir(parents=True, exist_ok=True)
+    label = f"{profile} profile, {protocol} protocol"
     loaded = {name: load_experiment(EXPERIMENTS[name], Path(results_dir) / name) for name in EXPERIMENTS}
     for name in names or EXPERIMENTS:
         experiment, documents = EXPERIMENTS[name], loaded[name]
         if not documents:
             continue
         figure, table, x_axis = FIGURES[name]
-        written.append(figure(experiment, documents, figures_dir / f"{name}_{profile}.png", profile))
+        written.append(figure(experiment, documents, figures_dir / f"{name}_{profile}.png", label))
         table_path = figures_dir / f"{name}_{profile}.md"
-        table_path.write_text(table(experiment, documents, x_axis))
+        table_path.write_text(f"Protocol: {protocol}, profile: {profile}\n\n" + table(experiment, documents, x_axis))
         written.append(table_path)
         if any(d.get("gait") for d in documents.values()) and name != "algo-comparison":
-            written.append(gait_figure(experiment, documents, figures_dir / f"{name}_gait_{profile}.png", profile,
+            written.append(gait_figure(experiment, documents, figures_dir / f"{name}_gait_{profile}.png", label,
                                        experiment.target_velocity))
         if name.startswith("omni"):
             written.append(direction_figure(experiment, documents, figures_dir / f"{name}_directions_{profile}.png",
-                                            profile))
+                                            label))
     if loaded["omni-pdec"] and loaded["omni-random"]:
         written.append(pdec_versus_random_figure(loaded["omni-pdec"], loaded["omni-random"],
-                                                 figures_dir / f"omni-pdec_vs_random_{profile}.png", profile))
+                                                 figures_dir / f"omni-pdec_vs_random_{profile}.png", label))
     if any(loaded.values()):
-        written.append(overview_figure(loaded, figures_dir / f"overview_{profile}.png", profile))
+        written.append(overview_figure(loaded, figures_dir / f"overview_{profile}.png", label))
     return written

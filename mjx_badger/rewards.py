@@ -14,6 +14,14 @@ def velocity_tracking(vx, target):
     return jnp.clip(jnp.minimum(rise, fall), 0.0, 1.0)
 
 
+def velocity_tracking_code(vx, target):
+    """The released code's track_x term (THESIS_CODE §5): 1 on [v_t, 2 v_t], 0 at <= -v_t and >= 4 v_t,
+    else 1 - |v - v_t| / (2 v_t). It jumps to 0.5 just above 2 v_t and is negative on (3 v_t, 4 v_t)."""
+    inside = (vx > -target) & (vx < 4 * target)
+    plateau = (vx >= target) & (vx <= 2 * target)
+    return jnp.where(plateau, 1.0, jnp.where(inside, 1.0 - jnp.abs(vx - target) / (2 * target), 0.0))
+
+
 def yaw_rate_squared(yaw_rate):
     """Table 4.5 yaw penalty: omega_z^2."""
     return yaw_rate**2
@@ -29,15 +37,15 @@ def torque_squared(torque):
     return jnp.sum(torque**2, axis=-1)
 
 
-def combine(terms: dict, weights: dict, scale: float):
-    """Weighted sum of terms times `scale`, clipped at 0 (Table 4.5 'non-negative reward').
+def combine(terms: dict, weights: dict, scale: float, clip: bool = True):
+    """Weighted sum of terms times `scale`, clipped at 0 (Table 4.5 'non-negative reward') if `clip`.
 
     Returns (reward, contributions) where contributions are weight * term, the figures a
     user compares with the reward table.
     """
     contributions = {name: weights[name] * value for name, value in terms.items()}
     total = scale * sum(contributions.values())
-    return jnp.maximum(total, 0.0), contributions
+    return (jnp.maximum(total, 0.0) if clip else total), contributions
 
 
 def planar_velocity_tracking(velocity_xy, target_xy, width: float = 0.5):

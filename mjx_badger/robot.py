@@ -1,73 +1,281 @@
-"""HB40 model and physical constants (DESIGN.md, thesis §4.1)."""
+"""The HB40 robot description: every figure of the robot in one frozen spec, and its MJCF built from it.
 
-import xml.etree.ElementTree as ET
-from pathlib import Path
+The figures are those of the thesis's released code's model (`gait_in_eight`, plane.xml, as
+THESIS_CODE.md §1 records them), rebuilt by us with primitive geoms. Joint-zero convention
+(theirs): hip 0 = leg in the trunk's x-z plane; thigh 0 = thigh pointing straight backward,
+horizontal; knee 0 = folded back onto the thigh with 13.3 degrees between the links. The
+joint axes are mirrored so that one set of angles means the same posture on every leg up to
+sign: front hips turn about +x and rear hips about -x; left thighs and knees about +y, right
+ones about -y. In that convention the thesis's nominal pose [0.1, 0.6, -1.2] reads
+FL (0.1, -0.6, 1.2), FR (-0.1, 0.6, -1.2), RL (-0.1, -0.6, 1.2), RR (0.1, 0.6, -1.2): hips
+0.1 rad outward, thighs 55.6 degrees behind vertical, knees 82 degrees between the links,
+each foot 0.252 m below and 0.102 m outboard of its hip.
+"""
+
+import dataclasses
+import math
 
 import mujoco
 import numpy as np
-
-MODEL_PATH = Path(__file__).parent / "assets" / "hb40.xml"
 
 LEGS = ("FL", "FR", "RL", "RR")
 JOINTS_PER_LEG = ("hip", "thigh", "knee")
 JOINT_NAMES = tuple(f"{leg}_{joint}" for leg in LEGS for joint in JOINTS_PER_LEG)
 NUM_JOINTS = len(JOINT_NAMES)
 FOOT_GEOMS = tuple(f"{leg}_foot" for leg in LEGS)
-
-# Left legs abduct outward with a positive hip angle, right legs with a negative one.
-_SIDE_SIGN = np.array([1.0, -1.0, 1.0, -1.0])
-# Thesis §4.1 nominal pose [hip, thigh, knee] = [0.1, 0.6, -1.2], hip mirrored per side.
-NOMINAL_POSE = np.concatenate([[0.1 * s, 0.6, -1.2] for s in _SIDE_SIGN]).astype(np.float32)
-# Thesis §4.1: joint-target actions stay within +-[0.2, 0.4, 0.4] of the nominal pose.
-JT_ACTION_SCALE = np.tile([0.2, 0.4, 0.4], 4).astype(np.float32)
-
-PHYSICS_DT = 0.005
-# A public HB40 model uses Kp 20, Kd 0.5; with this model the robot collapses under them
-# within 2 s (knee sag 0.13 rad, trunk pitches over), so the stand needs stiffer gains.
-KP, KD = 60.0, 1.5
-DAMPING_KP, DAMPING_KD = 0.0, 3.0
-TORQUE_LIMIT = 16.0
-# Trunk height with the legs in the nominal pose (feet at 0.02 m sphere radius).
-STANDING_HEIGHT = 0.02 + 0.4 * np.cos(0.6) * np.cos(0.1)
+# Per leg (FL, FR, RL, RR): +1 front / -1 rear, +1 left / -1 right.
+FRONT_SIGN = np.array([1.0, 1.0, -1.0, -1.0])
+LEFT_SIGN = np.array([1.0, -1.0, 1.0, -1.0])
 
 
-def load_model(split_pd: bool = False) -> mujoco.MjModel:
-    """Native MuJoCo model of the HB40.
+@dataclasses.dataclass(frozen=True)
+class RobotSpec:
+    """Every figure of a quadruped of the HB40's layout; lengths in m, masses in kg, inertias in kg m^2."""
 
-    With `split_pd` every joint gets a second PD actuator and both run at half gains and half
-    torque limit: their summed torque is the average of two full PD controllers, each clipped
-    at +-16 N m, which is how the residual CPG combines its two targets in simulation
-    (thesis §4.3). Actuators 0-11 take the first targets, 12-23 the second.
+    name: str = "hb40"
+    hip_x: float = 0.1375
+    """Hip (abduction) joints at (+-hip_x, +-hip_y, 0) in the trunk frame (plane.xml)."""
+    hip_y: float = 0.064
+    thigh_offset_x: float = 0.0555
+    """Thigh joint: this far forward (front legs) or backward (rear legs) of the hip joint ..."""
+    thigh_offset_y: float = 0.0125
+    """... and this far outboard."""
+    thigh_length: float = 0.2
+    knee_outboard: float = 0.0584
+    """Lateral offset of the knee from the thigh joint (plane.xml)."""
+    calf_length: float = 0.2
+    foot_outboard: float = 0.0054
+    """Lateral offset of the foot-sphere centre from the knee (plane.xml)."""
+    foot_radius: float = 0.02
+    thigh_zero_behind_vertical_deg: float = 90.0
+    """Thigh direction at thigh angle 0 (their zero: thigh horizontal, pointing backward)."""
+    knee_zero_interior_deg: float = 13.3
+    """Angle between thigh and calf at knee angle 0 (their zero: folded)."""
+    trunk_mass: float = 5.423
+    trunk_inertia: tuple = (0.6228, 0.4899, 0.1946)
+    """Diagonal, trunk frame (plane.xml: 10-50x a uniform solid of the trunk's size; it is what ran)."""
+    hip_mass: float = 0.645
+    hip_inertia: tuple = (0.0093, 0.0065, 0.0052)
+    thigh_mass: float = 0.827
+    thigh_inertia: tuple = (0.033, 0.0286, 0.0077)
+    """Diagonal, in a frame whose z axis runs along the link (plane.xml)."""
+    calf_mass: float = 0.118
+    calf_inertia: tuple = (0.0213, 0.0212, 0.0002)
+    trunk_half_size: tuple = (0.135, 0.089, 0.05)
+    """Trunk collision box half-sizes."""
+    thigh_motor_radius: float = 0.05
+    """Collision cylinder of the thigh motor, coaxial with the thigh joint (plane.xml 'thigh' geom)."""
+    thigh_motor_half_length: float = 0.055
+    calf_radius: float = 0.015
+    """Collision capsule along the calf (plane.xml: a cylinder of radius 0.015)."""
+    hip_range: float = 1.57
+    thigh_range: float = 1.57
+    knee_range: float = 2.53
+    """The knee opens from 0 to this (sign per side)."""
+    joint_damping: float = 0.1
+    joint_armature: float = 0.013122
+    joint_frictionloss: float = 0.48
+    torque_limit: float = 16.0
+    joint_velocity_limit: float = 25.0
+    """rad/s; the released code clips joint velocities to this after every physics step."""
+    nominal: tuple = (0.1, 0.6, -1.2)
+    """Thesis §4.1 nominal [hip, thigh, knee], read in this robot's joint convention by `nominal_pose`."""
+    jt_action_scale: tuple = (0.2, 0.4, 0.4)
+    """Thesis §4.1: joint-target actions stay within +-these (rad) of the nominal pose."""
+    home_height: float = 0.316
+    """Trunk height at reset (released code: a 4.4 cm drop onto the feet)."""
+    physics_dt: float = 0.005
+    friction: float = 1.1
+    contact_solref: tuple = (-1000.0, -80.0)
+    """Direct contact stiffness and damping (plane.xml)."""
+    contact_solimp: float = 0.9999
+    """plane.xml's solimp '1.2 1.1' clamps to this impedance."""
+    impratio: float = 100.0
+    solver_iterations: int = 50
+    """Most Newton iterations per physics step (plane.xml: 100). The solver stops at its tolerance, so
+    50 costs MJX about what 10 does, and unlike 10 it keeps MJX within 0.02 rad of native MuJoCo
+    through the reset drop onto the stiff, impratio-100 contacts (benchmarks/bench_contacts.py)."""
+    solver_ls_iterations: int = 10
+
+
+HB40 = RobotSpec()
+
+# The robot's own controller, as the on-robot loop drives it: the scripts' Kp 60 / Kd 3, and
+# the thesis's safety stop, Kp 0 / Kd 3 (§5.2).
+ROBOT_PD_GAINS = (60.0, 3.0)
+DAMPING_PD_GAINS = (0.0, 3.0)
+
+
+def joint_signs(spec: RobotSpec = HB40) -> np.ndarray:
+    """(4, 3) sign that turns [hip, thigh, knee] of the spec's convention into each leg's joint angles."""
+    return np.stack([FRONT_SIGN * LEFT_SIGN, -LEFT_SIGN, -LEFT_SIGN], axis=-1)
+
+
+def nominal_pose(spec: RobotSpec = HB40) -> np.ndarray:
+    """The nominal joint angles (12,) in order FL, FR, RL, RR x hip, thigh, knee."""
+    return (joint_signs(spec) * np.asarray(spec.nominal)).reshape(-1).astype(np.float32)
+
+
+def jt_action_scale(spec: RobotSpec = HB40) -> np.ndarray:
+    """Half-range (12,) of the joint-target actions around the nominal pose."""
+    return np.tile(spec.jt_action_scale, 4).astype(np.float32)
+
+
+def joint_limits(spec: RobotSpec = HB40) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper joint limits (4, 3)."""
+    upper = np.stack([np.full(4, spec.hip_range), np.full(4, spec.thigh_range),
+                      np.where(LEFT_SIGN > 0, spec.knee_range, 0.0)], axis=-1)
+    lower = np.stack([np.full(4, -spec.hip_range), np.full(4, -spec.thigh_range),
+                      np.where(LEFT_SIGN > 0, 0.0, -spec.knee_range)], axis=-1)
+    return lower, upper
+
+
+def _rot_y(angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def knee_offset(spec: RobotSpec, left: float) -> np.ndarray:
+    """Knee position (3,) in the thigh frame at thigh angle 0."""
+    phi = math.radians(spec.thigh_zero_behind_vertical_deg)
+    return np.array([-spec.thigh_length * math.sin(phi), left * spec.knee_outboard, -spec.thigh_length * math.cos(phi)])
+
+
+def foot_offset(spec: RobotSpec, left: float) -> np.ndarray:
+    """Foot-sphere centre (3,) in the calf frame at knee angle 0: back along the thigh, turned down by the zero fold."""
+    phi = math.radians(spec.thigh_zero_behind_vertical_deg)
+    back = np.array([math.sin(phi), 0.0, math.cos(phi)])
+    along = _rot_y(math.radians(spec.knee_zero_interior_deg)) @ back
+    return spec.calf_length * along + np.array([0.0, left * spec.foot_outboard, 0.0])
+
+
+def _vec(v) -> str:
+    return " ".join(f"{float(x):.6g}" for x in v)
+
+
+def _link_quat(direction) -> str:
+    """Quaternion turning z onto `direction`, for a link's inertial frame."""
+    z = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    quat = np.zeros(4)
+    mujoco.mju_quatZ2Vec(quat, z)
+    return _vec(quat)
+
+
+def _leg(spec: RobotSpec, index: int) -> str:
+    leg, front, left = LEGS[index], FRONT_SIGN[index], LEFT_SIGN[index]
+    knee = knee_offset(spec, left)
+    foot = foot_offset(spec, left)
+    lower, upper = joint_limits(spec)
+    motor = spec.thigh_motor_half_length
+    return f"""
+      <body name="{leg}_hip" pos="{_vec([front * spec.hip_x, left * spec.hip_y, 0])}">
+        <joint name="{leg}_hip" axis="{front:g} 0 0" range="{lower[index, 0]:g} {upper[index, 0]:g}"/>
+        <inertial pos="{_vec([front * 0.03, left * 0.006, 0])}" mass="{spec.hip_mass}" diaginertia="{_vec(spec.hip_inertia)}"/>
+        <geom name="{leg}_hip" class="visual" type="cylinder" size="0.04 0.03" pos="{_vec([front * 0.03, left * 0.006, 0])}" euler="0 1.5708 0"/>
+        <body name="{leg}_thigh" pos="{_vec([front * spec.thigh_offset_x, left * spec.thigh_offset_y, 0])}">
+          <joint name="{leg}_thigh" axis="0 {left:g} 0" range="{lower[index, 1]:g} {upper[index, 1]:g}"/>
+          <inertial pos="{_vec(knee / 2)}" quat="{_link_quat(knee)}" mass="{spec.thigh_mass}" diaginertia="{_vec(spec.thigh_inertia)}"/>
+          <geom name="{leg}_thigh" class="collision" type="cylinder" size="{spec.thigh_motor_radius} {motor}" euler="1.5708 0 0"/>
+          <geom name="{leg}_thigh_link" class="visual" type="capsule" fromto="0 0 0 {_vec(knee)}" size="0.018"/>
+          <body name="{leg}_calf" pos="{_vec(knee)}">
+            <joint name="{leg}_knee" axis="0 {left:g} 0" range="{lower[index, 2]:g} {upper[index, 2]:g}"/>
+            <inertial pos="{_vec(foot / 2)}" quat="{_link_quat(foot)}" mass="{spec.calf_mass}" diaginertia="{_vec(spec.calf_inertia)}"/>
+            <geom name="{leg}_calf" class="collision" type="capsule" fromto="0 0 0 {_vec(foot)}" size="{spec.calf_radius}"/>
+            <geom name="{leg}_foot" class="collision" type="sphere" pos="{_vec(foot)}" size="{spec.foot_radius}"/>
+          </body>
+        </body>
+      </body>"""
+
+
+def collision_geoms() -> tuple:
+    """Geoms that touch the floor: trunk, and per leg the thigh motor, calf and foot."""
+    return ("trunk",) + tuple(f"{leg}_{part}" for leg in LEGS for part in ("thigh", "calf", "foot"))
+
+
+def mjcf(spec: RobotSpec = HB40, split_pd: bool = False) -> str:
+    """The MJCF document of the robot on a flat floor.
+
+    With `split_pd` every joint gets a second position actuator (ctrl 12-23); both then run at
+    half the gains and half the torque limit, so their summed torque is the average of two full
+    PD controllers, each clipped: the torque-averaging residual CPG of thesis §4.3.
     """
-    if not split_pd:
-        return mujoco.MjModel.from_xml_path(str(MODEL_PATH))
-    root = ET.parse(MODEL_PATH).getroot()
-    actuators = root.find("actuator")
-    originals = list(actuators)
-    half = {"kp": f"{KP / 2:g}", "kv": f"{KD / 2:g}", "forcerange": f"{-TORQUE_LIMIT / 2:g} {TORQUE_LIMIT / 2:g}"}
-    for element in originals:
-        element.attrib.update(half)
-    for element in originals:
-        actuators.append(ET.Element("position", dict(element.attrib, name=element.get("name") + "_residual")))
-    return mujoco.MjModel.from_xml_string(ET.tostring(root, encoding="unicode"))
+    pd_share = 0.5 if split_pd else 1.0
+    limit = spec.torque_limit * pd_share
+    actuators = [f'<position name="{name}" joint="{name}"/>' for name in JOINT_NAMES]
+    if split_pd:
+        actuators += [f'<position name="{name}_residual" joint="{name}"/>' for name in JOINT_NAMES]
+    pairs = [f'<pair geom1="floor" geom2="{geom}"/>' for geom in collision_geoms()]
+    legs = "".join(_leg(spec, i) for i in range(4))
+    solref = _vec(spec.contact_solref)
+    solimp = f"{spec.contact_solimp} {spec.contact_solimp} 0.001 0.5 2"
+    return f"""<!-- {spec.name}: generated by mjx_badger.robot.mjcf from RobotSpec; edit the spec, not this text. -->
+<mujoco model="{spec.name}">
+  <compiler angle="radian" autolimits="true"/>
+  <option timestep="{spec.physics_dt}" cone="pyramidal" impratio="{spec.impratio:g}"
+          iterations="{spec.solver_iterations}" ls_iterations="{spec.solver_ls_iterations}">
+    <flag eulerdamp="disable"/>
+  </option>
+  <default>
+    <geom contype="0" conaffinity="0" friction="{spec.friction} 0.005 0.0001"/>
+    <joint type="hinge" damping="{spec.joint_damping}" armature="{spec.joint_armature}" frictionloss="{spec.joint_frictionloss}"/>
+    <!-- PD at the physics rate: force = kp (target - q) - kv qdot, clipped to the motor limit;
+         the gains are set per approach and protocol at run time (set_pd_gains). -->
+    <position kp="{60 * pd_share:g}" kv="{3 * pd_share:g}" forcerange="{-limit:g} {limit:g}"/>
+    <pair condim="3" friction="{spec.friction} {spec.friction} 0.005 0.0001 0.0001" solref="{solref}" solimp="{solimp}"/>
+    <default class="visual"><geom mass="0" rgba="0.3 0.3 0.3 1"/></default>
+    <default class="collision"><geom mass="0" rgba="0.5 0.5 0.5 1"/></default>
+  </default>
+  <worldbody>
+    <geom name="floor" type="plane" size="0 0 0.05" rgba="0.8 0.8 0.8 1"/>
+    <light pos="0 0 3" dir="0 0 -1" directional="true"/>
+    <body name="trunk" pos="0 0 {spec.home_height}">
+      <freejoint name="root"/>
+      <inertial pos="0 0 0" mass="{spec.trunk_mass}" diaginertia="{_vec(spec.trunk_inertia)}"/>
+      <geom name="trunk" class="collision" type="box" size="{_vec(spec.trunk_half_size)}" rgba="0.2 0.2 0.2 1"/>
+      <site name="imu" pos="0 0 0"/>{legs}
+    </body>
+  </worldbody>
+  <!-- Only floor contacts: MJX pays for every candidate pair on every physics step. -->
+  <contact>
+    {chr(10).join('    ' + p for p in pairs).strip()}
+  </contact>
+  <actuator>
+    {chr(10).join('    ' + a for a in actuators).strip()}
+  </actuator>
+  <sensor>
+    <accelerometer name="accelerometer" site="imu"/>
+    <gyro name="gyro" site="imu"/>
+    <framequat name="orientation" objtype="site" objname="imu"/>
+  </sensor>
+</mujoco>
+"""
 
 
-def standing_qpos(model: mujoco.MjModel) -> np.ndarray:
-    """qpos with the trunk level at standing height and the legs in the nominal pose."""
+def load_model(spec: RobotSpec = HB40, split_pd: bool = False) -> mujoco.MjModel:
+    """Native MuJoCo model of the robot (see `mjcf`)."""
+    return mujoco.MjModel.from_xml_string(mjcf(spec, split_pd))
+
+
+def standing_qpos(model: mujoco.MjModel, spec: RobotSpec = HB40, pose=None) -> np.ndarray:
+    """qpos at reset: trunk level at the home height, legs in `pose` (default the nominal pose)."""
     qpos = np.zeros(model.nq)
-    qpos[:3] = [0.0, 0.0, STANDING_HEIGHT]
+    qpos[:3] = [0.0, 0.0, spec.home_height]
     qpos[3] = 1.0
-    qpos[7:] = NOMINAL_POSE
+    qpos[7:] = nominal_pose(spec) if pose is None else pose
     return qpos
 
 
 def set_pd_gains(model, kp: float, kd: float):
-    """Return the model with every actuator's PD gains set (works for MjModel and mjx.Model)."""
+    """Return the model with every actuator's PD gains set (works for MjModel and mjx.Model).
+
+    A model with two PD actuators per joint (split_pd) gets half the gains in each.
+    """
+    share = 0.5 if np.asarray(model.actuator_gainprm).shape[0] > NUM_JOINTS else 1.0
     gain = np.zeros_like(np.asarray(model.actuator_gainprm))
-    gain[:, 0] = kp
+    gain[:, 0] = kp * share
     bias = np.zeros_like(np.asarray(model.actuator_biasprm))
-    bias[:, 1] = -kp
-    bias[:, 2] = -kd
+    bias[:, 1] = -kp * share
+    bias[:, 2] = -kd * share
     if isinstance(model, mujoco.MjModel):
         model.actuator_gainprm[:] = gain
         model.actuator_biasprm[:] = bias

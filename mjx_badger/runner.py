@@ -40,7 +40,7 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     chunk = jax.jit(seeds_chunk(trainer, len(seeds)), donate_argnums=0).lower(carry, 0).compile()
     compile_s = time.perf_counter() - t0
 
-    control_hz = config.env_config.control_hz
+    control_hz = trainer.env.control_hz
     document = {
         "schema": results.SCHEMA,
         "config": results.config_dict(config),

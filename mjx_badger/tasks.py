@@ -43,8 +43,11 @@ TARGET_VELOCITY = 0.5
 FORWARD_WEIGHTS = {"velocity": 1.0, "yaw": -0.1, "roll_pitch": -10.0, "energy": -0.0003}
 MAX_VELOCITY_WEIGHTS = {"velocity": 2.0, "yaw": -0.1, "roll_pitch": -10.0}
 OMNI_WEIGHTS = {"velocity": 1.0, "yaw": -0.1, "roll_pitch": -10.0, "energy": -0.0003}
+# The released code's track_xy: 0.5 |yaw-rate error|, no energy term (THESIS_CODE §5).
+OMNI_WEIGHTS_CODE = {"velocity": 1.0, "yaw": -0.5, "roll_pitch": -10.0}
 LATERAL_PENALTY_WEIGHT = -1.0
 REWARD_SCALE = 10.0
+REWARD_FORMS = ("thesis-text", "thesis-code")
 
 
 def fixed(command):
@@ -53,9 +56,10 @@ def fixed(command):
     return lambda state, key: (state, command)
 
 
-def _penalties(motion: Motion, squared_yaw: bool = True, energy: bool = True) -> dict:
+def _penalties(motion: Motion, squared_yaw: bool = True, energy: bool = True, yaw_target=0.0) -> dict:
+    yaw_error = motion.angular_velocity[2] - yaw_target
     terms = {
-        "yaw": (rewards.yaw_rate_squared if squared_yaw else rewards.yaw_rate_abs)(motion.angular_velocity[2]),
+        "yaw": (rewards.yaw_rate_squared if squared_yaw else rewards.yaw_rate_abs)(yaw_error),
         "roll_pitch": rewards.roll_pitch_squared(motion.roll, motion.pitch),
     }
     if energy:
@@ -63,12 +67,14 @@ def _penalties(motion: Motion, squared_yaw: bool = True, energy: bool = True) ->
     return terms
 
 
-def forward(target_velocity: float = TARGET_VELOCITY, weights=None) -> Task:
-    """Forward locomotion at a target velocity (thesis §4.4.1, Table 4.5)."""
+def forward(target_velocity: float = TARGET_VELOCITY, weights=None, form: str = "thesis-text") -> Task:
+    """Forward locomotion at a target velocity (thesis §4.4.1, Table 4.5; the code's track_x under 'thesis-code')."""
     weights = dict(FORWARD_WEIGHTS if weights is None else weights)
+    code = form == "thesis-code"
+    tracking = rewards.velocity_tracking_code if code else rewards.velocity_tracking
 
     def reward(motion: Motion, cmd):
-        terms = {"velocity": rewards.velocity_tracking(motion.linear_velocity[0], cmd[0]), **_penalties(motion)}
+        terms = {"velocity": tracking(motion.linear_velocity[0], cmd[0]), **_penalties(motion, squared_yaw=not code)}
         return rewards.combine(terms, weights, REWARD_SCALE)
 
     command = (target_velocity, 0.0, 0.0)
@@ -76,17 +82,23 @@ def forward(target_velocity: float = TARGET_VELOCITY, weights=None) -> Task:
                 eval_commands={"forward": command})
 
 
-def forward_max(weights=None) -> Task:
-    """Forward locomotion as fast as possible (thesis §5.1.3, Table 4.6); the command reads zero."""
+def forward_max(weights=None, form: str = "thesis-text") -> Task:
+    """Forward locomotion as fast as possible (thesis §5.1.3, Table 4.6).
+
+    thesis-text: clipped at 0, the command reads zero. thesis-code: unclipped, and the command
+    stays the forward task's (0.5, 0, 0), as the released max-velocity scripts ran it (§10).
+    """
     weights = dict(MAX_VELOCITY_WEIGHTS if weights is None else weights)
+    code = form == "thesis-code"
 
     def reward(motion: Motion, cmd):
         terms = {"velocity": rewards.forward_minus_lateral(motion.linear_velocity[:2]),
                  **_penalties(motion, squared_yaw=False, energy=False)}
-        return rewards.combine(terms, weights, REWARD_SCALE)
+        return rewards.combine(terms, weights, REWARD_SCALE, clip=not code)
 
-    return Task(name="forward-max", command=fixed((0.0, 0.0, 0.0)), reward=reward, weights=weights,
-                eval_commands={"forward": (0.0, 0.0, 0.0)})
+    command = (TARGET_VELOCITY, 0.0, 0.0) if code else (0.0, 0.0, 0.0)
+    return Task(name="forward-max", command=fixed(command), reward=reward, weights=weights,
+                eval_commands={"forward": command})
 
 
 def omni_eval_commands(speed: float = TARGET_VELOCITY) -> dict:
@@ -96,13 +108,14 @@ def omni_eval_commands(speed: float = TARGET_VELOCITY) -> dict:
             for name, (dx, dy) in directions.items() for level, scale in (("full", 1.0), ("half", 0.5))}
 
 
-def omni_reward(weights: dict, rotated: bool):
-    """§4.4.2 velocity reward plus the Table 4.5 penalties.
+def omni_reward(weights: dict, rotated: bool, form: str = "thesis-text"):
+    """§4.4.2 velocity reward plus penalties.
 
     `rotated` is approach 1 (velocity turned into the command's frame, the Table 4.5 term on
     the along-command speed, and a lateral penalty |v_lat|); otherwise approach 2, the joint
-    2-D tracking term the thesis's experiments use.
+    2-D tracking term the thesis's experiments use. thesis-code: 0.5 |yaw-rate error|, no energy.
     """
+    code = form == "thesis-code"
 
     def reward(motion: Motion, cmd):
         velocity = motion.linear_velocity[:2]
@@ -112,45 +125,47 @@ def omni_reward(weights: dict, rotated: bool):
                      "lateral": jnp.abs(lateral)}
         else:
             terms = {"velocity": rewards.planar_velocity_tracking(velocity, cmd[:2])}
-        terms.update(_penalties(motion))
+        terms.update(_penalties(motion, squared_yaw=not code, energy=not code, yaw_target=cmd[2] if code else 0.0))
         return rewards.combine(terms, weights, REWARD_SCALE)
 
     return reward
 
 
-def omni_random(speed: float = TARGET_VELOCITY, rotated: bool = False) -> Task:
+def omni_random(speed: float = TARGET_VELOCITY, rotated: bool = False, form: str = "thesis-text") -> Task:
     """Omnidirectional locomotion, direction uniform on the circle every episode (§5.1.4)."""
-    weights = dict(OMNI_WEIGHTS, **({"lateral": LATERAL_PENALTY_WEIGHT} if rotated else {}))
+    base = OMNI_WEIGHTS_CODE if form == "thesis-code" else OMNI_WEIGHTS
+    weights = dict(base, **({"lateral": LATERAL_PENALTY_WEIGHT} if rotated else {}))
 
     def command(state, key):
         angle = jax.random.uniform(key, minval=-jnp.pi, maxval=jnp.pi)
         return state, jnp.array([speed * jnp.cos(angle), speed * jnp.sin(angle), 0.0])
 
     return Task(name="omni-random-rotated" if rotated else "omni-random", command=command,
-                reward=omni_reward(weights, rotated), weights=weights, eval_commands=omni_eval_commands(speed))
+                reward=omni_reward(weights, rotated, form), weights=weights, eval_commands=omni_eval_commands(speed))
 
 
-def omni_pdec(speed: float = TARGET_VELOCITY) -> Task:
+def omni_pdec(speed: float = TARGET_VELOCITY, form: str = "thesis-text") -> Task:
     """Omnidirectional locomotion under the Progressive Directional Expansion Curriculum (§4.5.1)."""
-    weights = dict(OMNI_WEIGHTS)
+    weights = dict(OMNI_WEIGHTS_CODE if form == "thesis-code" else OMNI_WEIGHTS)
 
     def update(state, cmd, motion: Motion):
         return curriculum.record(state, cmd, motion.linear_velocity[:2], motion.angular_velocity[2])
 
     return Task(name="omni-pdec", command=lambda state, key: curriculum.sample(state, key, speed),
-                reward=omni_reward(weights, rotated=False), weights=weights, eval_commands=omni_eval_commands(speed),
-                init=curriculum.init, update=update, progress=curriculum.progress)
+                reward=omni_reward(weights, rotated=False, form=form), weights=weights,
+                eval_commands=omni_eval_commands(speed), init=curriculum.init, update=update,
+                progress=curriculum.progress)
 
 
 TASKS = {
-    "forward": forward,
-    "forward-max": forward_max,
-    "omni-random": omni_random,
-    "omni-random-rotated": lambda: omni_random(rotated=True),
-    "omni-pdec": omni_pdec,
+    "forward": lambda form: forward(form=form),
+    "forward-max": lambda form: forward_max(form=form),
+    "omni-random": lambda form: omni_random(form=form),
+    "omni-random-rotated": lambda form: omni_random(rotated=True, form=form),
+    "omni-pdec": lambda form: omni_pdec(form=form),
 }
 
 
-def make_task(name: str) -> Task:
-    """The task called `name` with the thesis's settings."""
-    return TASKS[name]()
+def make_task(name: str, form: str = "thesis-text") -> Task:
+    """The task called `name` with the reward forms of a protocol ('thesis-text' or 'thesis-code')."""
+    return TASKS[name](form)

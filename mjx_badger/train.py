@@ -14,10 +14,11 @@ import jax
 import jax.numpy as jnp
 from flax import struct
 
-from mjx_badger import replay
+from mjx_badger import actions, protocols, replay, tasks
 from mjx_badger.agents import ALGORITHMS, AgentConfig, AgentState, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
+from mjx_badger.protocols import Protocol
 
 
 @dataclasses.dataclass(frozen=True)
@@ -37,18 +38,40 @@ class TrainConfig:
     """Length of each deterministic evaluation run after every chunk."""
     gait_seconds: float = 4.0
     """Simulated seconds of the deterministic run after training; its second half is kept as the gait record."""
+    protocol: str = "thesis-code"
+    """'thesis-code' (as the released code ran it) or 'thesis-text' (as the thesis reads); protocols.py."""
+    protocol_changes: tuple = ()
+    """One-factor swaps: ((field, value), ...) applied to the protocol (attribution runs)."""
     env: EnvConfig | None = None
-    """Environment settings; None means the defaults at the algorithm's control frequency."""
+    """Environment settings; None means the protocol's, at its rate for this approach and algorithm."""
     agent: AgentConfig | None = None
-    """Agent settings; None means ALGORITHMS[algo]()."""
+    """Agent settings; None means the protocol's configuration of `algo`."""
+
+    def validate(self) -> None:
+        """Raise ValueError naming the valid choices for any unknown name, before anything compiles."""
+        for what, value, valid in (("approach", self.approach, actions.APPROACHES),
+                                   ("algorithm", self.algo, ALGORITHMS), ("task", self.task, tasks.TASKS),
+                                   ("protocol", self.protocol, protocols.PROTOCOLS)):
+            if value not in valid:
+                raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
+        self.protocol_spec  # unknown protocol fields raise here
+        if self.warmup_steps >= self.total_steps:
+            raise ValueError(f"warm-up ({self.warmup_steps} steps) must be shorter than the run ({self.total_steps})")
+
+    @property
+    def protocol_spec(self) -> Protocol:
+        return protocols.get(self.protocol, self.protocol_changes)
 
     @property
     def agent_config(self) -> AgentConfig:
-        return ALGORITHMS[self.algo]() if self.agent is None else self.agent
+        return self.protocol_spec.agent_config(self.algo) if self.agent is None else self.agent
 
     @property
     def env_config(self) -> EnvConfig:
-        return EnvConfig(control_hz=self.agent_config.control_hz) if self.env is None else self.env
+        if self.env is not None:
+            return self.env
+        spec = self.protocol_spec
+        return EnvConfig(control_hz=spec.control_hz(actions.is_cpg(self.approach), self.algo), protocol=spec)
 
     @property
     def num_chunks(self) -> int:
@@ -64,6 +87,8 @@ class Carry(struct.PyTreeNode):
     key: jax.Array
     eval_key: jax.Array
     episode_return: jnp.ndarray
+    falls: jnp.ndarray
+    """Falls as the protocol counts them (thesis-code: only once learning has started)."""
 
 
 class Trainer(NamedTuple):
@@ -77,7 +102,9 @@ class Trainer(NamedTuple):
 
 def make_train(config: TrainConfig) -> Trainer:
     """The pure training functions of `config`."""
+    config.validate()
     cfg = config.agent_config
+    protocol = config.protocol_spec
     env = HB40Env(config.approach, config.task, config.env_config)
     agent = make_agent(cfg, env.observation_size, env.action_size)
     capacity = config.num_chunks * config.chunk_steps
@@ -91,6 +118,7 @@ def make_train(config: TrainConfig) -> Trainer:
             key=key,
             eval_key=eval_key,
             episode_return=jnp.float32(0.0),
+            falls=jnp.int32(0),
         )
 
     def learn(agent_state, buffer, key, step):
@@ -121,23 +149,30 @@ def make_train(config: TrainConfig) -> Trainer:
         action = jnp.where(step < config.warmup_steps, random_action, policy_action)
         env_state = env.step(carry.env_state, action)
         info = env_state.info
-        transition = Transition(obs, action, env_state.reward, info["next_obs"],
-                                1.0 - info["terminated"].astype(jnp.float32))
+        next_obs = info["next_obs"]
+        if protocol.truncation_bootstraps_from == "next-episode":
+            # The released replay's next state is the following row: at a time-out, the next episode's start.
+            next_obs = jnp.where(info["truncated"], env_state.obs, next_obs)
+        transition = Transition(obs, action, env_state.reward, next_obs, 1.0 - info["terminated"].astype(jnp.float32))
         buffer = replay.add(carry.buffer, transition)
         agent_state, learn_metrics = jax.lax.cond(step >= config.warmup_steps, learn, skip_learning,
                                                   carry.agent_state, buffer, learn_key, step)
         episode_return = carry.episode_return + env_state.reward
         done = env_state.done > 0
+        counted = info["terminated"] & ((step >= config.warmup_steps) | (not protocol.falls_after_warmup))
+        falls = carry.falls + counted.astype(jnp.int32)
         step_metrics = dict(
             env_state.metrics,
             reward=env_state.reward,
             episode_end=done.astype(jnp.float32),
             finished_return=jnp.where(done, episode_return, 0.0),
-            falls=info["falls"].astype(jnp.float32),
+            falls=falls.astype(jnp.float32),
+            falls_total=info["falls"].astype(jnp.float32),
+            would_falls=info["would_falls"].astype(jnp.float32),
             **learn_metrics,
         )
         carry = carry.replace(env_state=env_state, agent_state=agent_state, buffer=buffer, key=key,
-                              episode_return=jnp.where(done, 0.0, episode_return))
+                              episode_return=jnp.where(done, 0.0, episode_return), falls=falls)
         return carry, step_metrics
 
     eval_names = tuple(env.task.eval_commands)
@@ -191,9 +226,9 @@ def make_train(config: TrainConfig) -> Trainer:
             action = agent.act(carry.agent_state, state.obs, None, deterministic=True)
             return env.traced_step(state, action)
 
-        steps = int(round(config.gait_seconds / env.config.control_dt))
+        steps = int(round(config.gait_seconds / env.control_dt))
         _, (contacts, velocity) = jax.lax.scan(body, env.reset(carry.eval_key, eval_commands[0]), None, length=steps)
-        keep = steps * env.config.substeps // 2
+        keep = steps * env.substeps // 2
         return {"contacts": contacts.reshape(-1, 4)[-keep:].astype(jnp.int8), "forward_velocity": velocity.reshape(-1)[-keep:]}
 
     def chunk(carry: Carry, start_step):
@@ -211,6 +246,8 @@ def make_train(config: TrainConfig) -> Trainer:
                                                     jnp.nan)
         metrics["train/episodes"] = episodes
         metrics["train/falls"] = steps["falls"][-1]
+        metrics["train/falls_total"] = steps["falls_total"][-1]
+        metrics["train/would_falls"] = steps["would_falls"][-1]
         metrics["train/updates"] = jnp.sum(steps["updates"])
         metrics.update(evaluate(carry.agent_state, carry.eval_key))
         return carry, metrics

@@ -17,8 +17,8 @@ TINY_TRAIN = TrainConfig(approach="jt-oef", algo="crossq", task="forward", total
 
 @pytest.fixture(scope="session")
 def env():
-    """JT-NF on the forward task, without action delay so rollouts are deterministic."""
-    return HB40Env("jt-nf", "forward", EnvConfig(action_delay=False))
+    """JT-NF on the forward task under the thesis-code protocol (no action delay: rollouts are deterministic)."""
+    return HB40Env("jt-nf", "forward", EnvConfig())
 
 
 @pytest.fixture(scope="session")

@@ -34,10 +34,23 @@ def test_table_4_3():
     assert droq.dropout_rate > 0 and droq.layer_norm and not droq.batch_renorm
 
 
-def test_train_config_runs_each_algorithm_at_its_control_frequency():
-    assert TrainConfig(algo="crossq").env_config.episode_steps == 800
-    assert TrainConfig(algo="droq").env_config.episode_steps == 400
-    assert TrainConfig(algo="sac").env_config.substeps == 10  # physics stays at 200 Hz
+def test_train_config_takes_the_control_rate_from_the_protocol():
+    # thesis-text: each algorithm at its Table 4.3 rate; thesis-code: JT at 50 Hz, CPG at 40 Hz, any algorithm.
+    text = dict(protocol="thesis-text")
+    assert TrainConfig(algo="crossq", **text).env_config.control_hz == 40.0
+    assert TrainConfig(algo="droq", **text).env_config.control_hz == 20.0
+    assert TrainConfig(algo="droq").env_config.control_hz == 50.0
+    assert TrainConfig(algo="sac", approach="cpg-d").env_config.control_hz == 40.0
+
+
+def test_protocols_configure_crossq_and_the_many_update_algorithms():
+    code, text = TrainConfig(algo="crossq").agent_config, TrainConfig(algo="crossq", protocol="thesis-text").agent_config
+    assert (code.policy_delay, code.renorm_warmup_steps, code.actor_batch_renorm, code.target_entropy) == (
+        1, 1000, True, -6.0)
+    assert (text.policy_delay, text.renorm_warmup_steps, text.actor_batch_renorm, text.target_entropy) == (
+        3, 100_000, False, None)
+    assert TrainConfig(algo="droq").agent_config.actor_updates_per_step == 1
+    assert TrainConfig(algo="droq", protocol="thesis-text").agent_config.actor_updates_per_step is None
 
 
 def _constant_networks(name):
@@ -46,7 +59,7 @@ def _constant_networks(name):
     Then every Q = its output bias (batch renorm of zeros stays zero) and the actor's mean
     and log-std are their biases: mean 0.5, log_std = -10 + 6 (tanh(0) + 1) = -4.
     """
-    cfg = ALGORITHMS[name]().replace(hidden=(4,), dropout_rate=0.0)
+    cfg = ALGORITHMS[name]().replace(hidden=(4,), dropout_rate=0.0)  # the text's actor: no batch renorm
     agent = make_agent(cfg, 2, 1)
     state = agent.init(jax.random.PRNGKey(0))
     zero = lambda tree: jax.tree.map(jnp.zeros_like, tree)
@@ -81,7 +94,7 @@ def test_critic_loss_by_hand(name):
     losses = make_losses(actor, critic, cfg, 1)
     key = jax.random.PRNGKey(7)
     loss, (_, metrics) = losses.critic(state.critic_params, state.critic_stats, state.target_params,
-                                       state.actor_params, state.log_alpha, BATCH, key)
+                                       state.actor_params, state.actor_stats, state.log_alpha, BATCH, key)
     # Next actions use the first half of the key; the noise is the only thing not set by hand.
     eps = np.asarray(jax.random.normal(jax.random.split(key)[0], (3, 1)))[:, 0]
     log_prob = _hand_log_prob(eps)
@@ -96,8 +109,8 @@ def test_actor_and_temperature_losses_by_hand():
     cfg, state = _constant_networks("sac")
     losses = make_losses(Actor(action_size=1, hidden=cfg.hidden), Critic(hidden=cfg.hidden), cfg, 1)
     key = jax.random.PRNGKey(3)
-    loss, log_prob = losses.actor(state.actor_params, state.critic_params, state.critic_stats, state.log_alpha,
-                                  BATCH.obs, key)
+    loss, (log_prob, _) = losses.actor(state.actor_params, state.actor_stats, state.critic_params,
+                                       state.critic_stats, state.log_alpha, BATCH.obs, key)
     eps = np.asarray(jax.random.normal(key, (3, 1)))[:, 0]
     hand = _hand_log_prob(eps)
     np.testing.assert_allclose(log_prob, hand, rtol=1e-5)
@@ -168,4 +181,4 @@ def test_every_algorithm_trains_a_vmapped_smoke_run(name):
     last = history[-1]
     for metric in ("train/critic_loss", "train/actor_loss", "train/alpha", "train/forward_velocity", "eval/return"):
         assert np.isfinite(last[metric]).all(), metric
-    assert config.env_config.control_hz == ALGORITHMS[name]().control_hz
+    assert config.env_config.control_hz == 50.0  # thesis-code: JT's rate whatever the algorithm

@@ -54,6 +54,23 @@ def test_list_names_everything(capsys):
     assert main(["list"]) == 0
     out = capsys.readouterr().out
     assert "jt-oef" in out and "crossq" in out and "forward" in out and "quick" in out
+    assert "thesis-code, thesis-text" in out and "termination" in out
+
+
+def test_bad_protocol_names_and_fields_exit_2(capsys):
+    for command in ("train", "reproduce", "figures", "claims"):
+        err = _fails(capsys, [command, "--protocol", "thesis-paper"])
+        assert "invalid choice: 'thesis-paper'" in err and "thesis-code" in err and "thesis-text" in err
+    err = _fails(capsys, ["train", "--set", "no_such_field=1"])
+    assert "FIELD one of" in err and "episode_seconds" in err
+
+
+def test_claims_without_results_prints_both_empty_scoreboards(capsys, tmp_path):
+    assert main(["claims", "--results-dir", str(tmp_path), "--json", str(tmp_path / "board.json")]) == 0
+    out = capsys.readouterr().out
+    assert "thesis-code protocol, quick profile: 0 of 15 hold (0 checked)" in out
+    assert "thesis-text protocol" in out and "thesis: CrossQ ~2 min, DroQ ~7 min" in out
+    assert (tmp_path / "board.json").exists()
 
 
 def test_a_run_shared_by_two_experiments_is_found_and_reused(tmp_path):
@@ -79,7 +96,8 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
     ran = []
     monkeypatch.setattr("mjx_badger.runner.run", lambda config, seeds, path, progress: ran.append(path.name))
     monkeypatch.setattr("mjx_badger.plots.draw", lambda *args: [])
-    folder = tmp_path / "smoke" / "forward"
+    monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])
+    folder = tmp_path / "smoke" / "thesis-code" / "forward"
     for index, run in enumerate(experiment.runs):
         config = experiment.train_config(run, "smoke")
         if index == 1:  # same file name, different configuration: must rerun

@@ -6,27 +6,21 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjx_badger import actions, cpg, kinematics, robot
+from mjx_badger import actions, cpg, kinematics, protocols, robot
 
-
-def test_forward_kinematics_matches_mujoco():
-    model = robot.load_model()
-    data = mujoco.MjData(model)
-    rng = np.random.default_rng(0)
-    angles = rng.uniform([-0.6, -1.2, -2.4], [0.6, 1.2, -0.2], (4, 3))
-    data.qpos[3] = 1.0
-    data.qpos[7:] = angles.ravel()
-    mujoco.mj_kinematics(model, data)
-    feet = np.asarray(kinematics.forward(angles))
-    for i, leg in enumerate(robot.LEGS):
-        expected = data.geom_xpos[model.geom(f"{leg}_foot").id] - data.xpos[model.body(f"{leg}_hip").id]
-        np.testing.assert_allclose(feet[i], expected, atol=1e-6, err_msg=leg)
+TEXT = protocols.THESIS_TEXT
+CODE = protocols.THESIS_CODE
 
 
 def test_inverse_of_forward_over_the_reachable_workspace():
-    """FK(IK(p)) = p for feet below the hip, sampled from joint angles inside the ranges."""
+    """FK(IK(p)) = p for feet below the hip, sampled from joint angles inside the ranges (knee bent backward)."""
     rng = np.random.default_rng(1)
-    angles = rng.uniform([-1.0, -1.3, -2.5], [1.0, 1.3, -0.05], (2000, 4, 3))
+    # Hips +-0.5 rad; thighs 10-80 degrees behind vertical (a = -1.4 ... -0.17 from the horizontal zero);
+    # knees 0.3-2.4 rad open; a joint angle is the physical angle times the leg's side sign.
+    hip = rng.uniform(-0.5, 0.5, (2000, 4))
+    a = rng.uniform(-1.4, -0.17, (2000, 4))
+    b = rng.uniform(0.3, 2.4, (2000, 4))
+    angles = np.stack([hip, robot.LEFT_SIGN * a, robot.LEFT_SIGN * b], axis=-1)
     feet = jax.vmap(kinematics.forward)(angles)
     below = np.asarray(jnp.all(feet[..., 2] < -0.05, axis=-1))
     feet = feet[below]
@@ -36,10 +30,8 @@ def test_inverse_of_forward_over_the_reachable_workspace():
 
 
 def test_nominal_pose_round_trip():
-    np.testing.assert_allclose(np.asarray(kinematics.inverse(kinematics.NOMINAL_FEET)).ravel(), robot.NOMINAL_POSE,
+    np.testing.assert_allclose(np.asarray(kinematics.inverse(kinematics.NOMINAL_FEET)).ravel(), robot.nominal_pose(),
                                atol=1e-6)
-    # Nominal feet stand straight below the thigh joints, 0.327 m down.
-    np.testing.assert_allclose(kinematics.NOMINAL_FEET[:, 0], [0.0555, 0.0555, -0.0555, -0.0555], atol=1e-6)
 
 
 def test_inverse_kinematics_never_returns_nan_and_respects_limits():
@@ -48,9 +40,9 @@ def test_inverse_kinematics_never_returns_nan_and_respects_limits():
     angles = np.asarray(jax.vmap(kinematics.inverse)(points))
     assert np.isfinite(angles).all()
     assert (angles >= kinematics.JOINT_LOWER - 1e-6).all() and (angles <= kinematics.JOINT_UPPER + 1e-6).all()
-    # Out of reach straight down: the leg stretches (knee 0), pointing at the target.
-    stretched = angles[3]
-    np.testing.assert_allclose(stretched[:, 2], 0.0, atol=1e-6)
+    # Out of reach straight down: the leg stretches, its knee at the most open angle it reaches.
+    stretched = np.asarray(kinematics.forward(angles[3]))
+    assert (np.linalg.norm(stretched[:, [0, 2]], axis=-1) > 0.39).all()
 
 
 def test_swing_spline_hits_apex_at_mid_swing_and_is_continuous():
@@ -88,8 +80,14 @@ def test_cpg_progress_is_in_unit_range_and_continuous_at_wrap():
 @pytest.mark.parametrize("approach, size", [("cpg-d", 12), ("cpg-vf", 13), ("cpg-rt", 24), ("cpg-rt-avg", 24),
                                             ("cpg-rt-sum", 24)])
 def test_cpg_action_spaces_have_table_4_2_sizes(approach, size):
-    space = actions.make_action_space(approach, 0.025)
-    assert space.size == size
+    for protocol in (TEXT, CODE):
+        space = actions.make_action_space(approach, 0.025, protocol)
+        assert space.size == size
+        state, ctrl = space.step(space.init(), jnp.zeros(size))
+        assert ctrl.shape == (space.ctrl_size,) and np.isfinite(np.asarray(ctrl)).all()
+        predicted, extra = space.observe(state)
+        assert predicted.shape == (12,) and extra.shape == (2,)
+    space = actions.make_action_space(approach, 0.025, TEXT)
     state, ctrl = space.step(space.init(), jnp.zeros(size))
     assert ctrl.shape == (space.ctrl_size,) and np.isfinite(np.asarray(ctrl)).all()
     predicted, extra = space.observe(state)
@@ -97,7 +95,7 @@ def test_cpg_action_spaces_have_table_4_2_sizes(approach, size):
 
 
 def test_cpg_d_with_zero_action_follows_the_trot_from_the_nominal_feet():
-    space = actions.make_action_space("cpg-d", 0.025)
+    space = actions.make_action_space("cpg-d", 0.025, TEXT)
     state = space.init()
     for _ in range(5):  # 5 x 0.025 s at 2 Hz: phase 0.25, FL and RR at apex, FR and RL in stance
         state, ctrl = space.step(state, jnp.zeros(12))
@@ -108,7 +106,7 @@ def test_cpg_d_with_zero_action_follows_the_trot_from_the_nominal_feet():
 
 
 def test_cpg_vf_frequency_spans_1_to_4_hz():
-    space = actions.make_action_space("cpg-vf", 0.025)
+    space = actions.make_action_space("cpg-vf", 0.025, TEXT)
     slow, _ = space.step(space.init(), jnp.zeros(13).at[12].set(-1.0))
     fast, _ = space.step(space.init(), jnp.zeros(13).at[12].set(1.0))
     assert float(slow.cpg.phase) == pytest.approx(1.0 * 0.025)
@@ -116,7 +114,7 @@ def test_cpg_vf_frequency_spans_1_to_4_hz():
 
 
 def test_foot_offsets_are_bounded_by_table_4_2():
-    space = actions.make_action_space("cpg-d", 0.025)
+    space = actions.make_action_space("cpg-d", 0.025, TEXT)
     state, _ = space.step(space.init(), jnp.full(12, 5.0))  # clipped to +1
     offsets = np.asarray(state.feet - kinematics.NOMINAL_FEET)
     np.testing.assert_allclose(offsets[:, 0], 0.15, atol=1e-6)
@@ -127,14 +125,14 @@ def test_foot_offsets_are_bounded_by_table_4_2():
 def test_residual_combinations():
     """Torque averaging: 24 targets for two half-strength PDs; angle average; angle sum."""
     action = jnp.zeros(24).at[12:].set(1.0)
-    residual = robot.NOMINAL_POSE + actions.RESIDUAL_SCALE
-    torque = actions.make_action_space("cpg-rt", 0.025)
+    residual = robot.nominal_pose() + actions.RESIDUAL_SCALE
+    torque = actions.make_action_space("cpg-rt", 0.025, TEXT)
     _, ctrl = torque.step(torque.init(), action)
     np.testing.assert_allclose(ctrl[12:], residual, atol=1e-6)
     cpg_angles = ctrl[:12]
-    _, averaged = actions.make_action_space("cpg-rt-avg", 0.025).step(torque.init(), action)
+    _, averaged = actions.make_action_space("cpg-rt-avg", 0.025, TEXT).step(torque.init(), action)
     np.testing.assert_allclose(averaged, 0.5 * (cpg_angles + residual), atol=1e-6)
-    _, summed = actions.make_action_space("cpg-rt-sum", 0.025).step(torque.init(), action)
+    _, summed = actions.make_action_space("cpg-rt-sum", 0.025, TEXT).step(torque.init(), action)
     expected = np.clip(cpg_angles + actions.RESIDUAL_SCALE, kinematics.JOINT_LOWER.ravel(),
                        kinematics.JOINT_UPPER.ravel())
     np.testing.assert_allclose(summed, expected, atol=1e-6)
@@ -145,11 +143,41 @@ def test_split_pd_model_averages_two_clipped_pd_torques():
     model = robot.load_model(split_pd=True)
     assert model.nu == 24
     data = mujoco.MjData(model)
+    robot.set_pd_gains(model, 60.0, 3.0)
     data.qpos[:] = robot.standing_qpos(model)
-    first = robot.NOMINAL_POSE + 0.05
-    second = robot.NOMINAL_POSE - 1.0  # saturates: -60 rad^-1 x 1 rad is beyond 16 N m
+    first = robot.nominal_pose() + 0.05
+    second = robot.nominal_pose() - 1.0  # saturates: -60 rad^-1 x 1 rad is beyond 16 N m
     data.ctrl[:] = np.concatenate([first, second])
     mujoco.mj_forward(model, data)
     q = data.qpos[7:]
-    pd = lambda target: np.clip(robot.KP * (target - q), -robot.TORQUE_LIMIT, robot.TORQUE_LIMIT)
+    limit = robot.HB40.torque_limit
+    pd = lambda target: np.clip(60.0 * (target - q), -limit, limit)
     np.testing.assert_allclose(data.qfrc_actuator[6:], 0.5 * (pd(first) + pd(second)), atol=1e-9)
+
+
+def test_thesis_code_cpg_adds_the_action_to_joint_angles_after_ik():
+    """CPG under thesis-code: ctrl = IK(stance + swing) + action x [0.15, 0.15, 0.10] rad, not offsets before IK."""
+    space = actions.make_action_space("cpg-d", 0.025, CODE)
+    action = jnp.linspace(-1.0, 1.0, 12)
+    state, ctrl = space.step(space.init(), action)
+    # First step: heights read before the phase advances, so both pairs stand.
+    stance = np.asarray(kinematics.thesis_code_ik(actions.THESIS_CODE_STANCE)).reshape(-1)
+    np.testing.assert_allclose(ctrl, stance + np.asarray(action) * actions.JOINT_OFFSET_SCALE, atol=1e-6)
+    # The same action through the text's pipeline moves the feet, not the joints, by its offsets.
+    text = actions.make_action_space("cpg-d", 0.025, TEXT)
+    _, text_ctrl = text.step(text.init(), action)
+    assert np.abs(np.asarray(text_ctrl) - ctrl).max() > 0.1
+
+
+def test_thesis_code_residual_cpg_folds_the_d_term_bug_into_one_pd_target():
+    """tau = [60 (t - q) - 3 qdot + 60 (n + r - q) + 3 (a - qdot)] / 2 = 60 (ctrl - q) - 3 qdot."""
+    space = actions.make_action_space("cpg-rt", 0.025, CODE)
+    assert not space.split_pd
+    action = jnp.concatenate([jnp.full(12, 0.5), jnp.full(12, -1.0)])
+    _, ctrl = space.step(space.init(), action)
+    t = np.asarray(kinematics.thesis_code_ik(actions.THESIS_CODE_STANCE)).reshape(-1) + 0.5 * actions.JOINT_OFFSET_SCALE
+    n_r = robot.nominal_pose() - actions.RESIDUAL_SCALE
+    a = 0.5 * actions.JOINT_OFFSET_SCALE
+    q, qdot = robot.nominal_pose() + 0.01, np.full(12, 0.3)
+    expected = 0.5 * (60 * (t - q) - 3 * qdot + 60 * (n_r - q) + 3 * (a - qdot))
+    np.testing.assert_allclose(60 * (np.asarray(ctrl) - q) - 3 * qdot, expected, rtol=1e-5, atol=1e-5)

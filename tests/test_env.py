@@ -5,7 +5,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from mjx_badger import env as env_module
-from mjx_badger.env import EnvConfig
+from mjx_badger import protocols
+from mjx_badger.env import EnvConfig, HB40Env
 
 ROLLOUT_STEPS = 200
 BATCH = 4
@@ -20,9 +21,16 @@ def test_observation_layout_is_table_4_1(env, env_fns):
     np.testing.assert_allclose(state.obs[51:54], [0.0, 0.0, -1.0], atol=1e-6)  # gravity, level trunk
 
 
-def test_episode_and_rates(env):
-    assert env.config.substeps == 5 and env.config.episode_steps == 800
-    slow = EnvConfig(control_hz=20.0)
+def test_episode_and_rates_follow_the_protocol(env):
+    # thesis-code: JT at 50 Hz (4 physics steps), CPG at 40 Hz (5), 10 s episodes (THESIS_CODE §2, §6).
+    assert env.substeps == 4 and env.episode_steps == 500
+    assert env.mj_model.actuator_gainprm[0, 0] == 25.0 and env.mj_model.actuator_biasprm[0, 2] == -1.0
+    cpg = HB40Env("cpg-d", "forward")
+    assert cpg.substeps == 5 and cpg.episode_steps == 400 and cpg.mj_model.actuator_biasprm[0, 2] == -3.0
+    # thesis-text: the algorithm's rate (CrossQ 40 Hz, the others 20 Hz), 20 s episodes, Kp 60 / Kd 3.
+    text = HB40Env("jt-nf", "forward", EnvConfig(protocol=protocols.THESIS_TEXT))
+    assert text.substeps == 5 and text.episode_steps == 800 and text.mj_model.actuator_gainprm[0, 0] == 60.0
+    slow = HB40Env("jt-nf", "forward", EnvConfig(control_hz=20.0, protocol=protocols.THESIS_TEXT))
     assert slow.substeps == 10 and slow.episode_steps == 400
 
 
@@ -49,16 +57,22 @@ def test_vmapped_random_rollout_has_no_nan_and_equals_single_env(env, env_fns):
     reset_key, action_key = jax.random.split(keys[0])
     actions = jax.random.uniform(action_key, (ROLLOUT_STEPS, env.action_size), minval=-1, maxval=1)
     state = reset(reset_key)
-    for t in range(20):
+    for t in range(10):
         state = step(state, actions[t])
-        np.testing.assert_allclose(state.obs, obs[0, t], rtol=1e-4, atol=1e-4,
+        # The stiff contacts of the thesis-code model (landing from the reset drop) grow float32
+        # summation-order differences to ~1e-3 within 10 steps, and more in the raw free-joint
+        # accelerations [36:42] it observes; a wrong key or carry would differ at order one.
+        rest = np.r_[0:36, 42:54]
+        np.testing.assert_allclose(state.obs[rest], obs[0, t][rest], rtol=5e-3, atol=5e-3,
                                    err_msg=f"vmapped and single env differ at step {t}")
+        np.testing.assert_allclose(state.obs[36:42], obs[0, t][36:42], rtol=5e-2, atol=5e-2,
+                                   err_msg=f"accelerations differ at step {t}")
 
 
 def test_fall_terminates_counts_and_resets(env, env_fns):
     reset, step = env_fns
     state = reset(jax.random.PRNGKey(0))
-    # Tip the trunk over by 90 degrees about x: roll beyond the 0.8 rad threshold.
+    # Tip the trunk over by 90 degrees about x: roll beyond the 30 degree threshold.
     qpos = state.pipeline_state.qpos.at[3:7].set(jnp.array([np.cos(np.pi / 4), np.sin(np.pi / 4), 0.0, 0.0]))
     state = state.replace(pipeline_state=state.pipeline_state.replace(qpos=qpos))
     state = step(state, jnp.zeros(env.action_size))
@@ -73,17 +87,17 @@ def test_fall_terminates_counts_and_resets(env, env_fns):
 def test_time_limit_truncates_without_a_fall(env, env_fns):
     reset, step = env_fns
     state = reset(jax.random.PRNGKey(0))
-    state = state.replace(info=dict(state.info, step=jnp.int32(env.config.episode_steps - 1)))
+    state = state.replace(info=dict(state.info, step=jnp.int32(env.episode_steps - 1)))
     state = step(state, jnp.zeros(env.action_size))
     assert bool(state.info["truncated"]) and not bool(state.info["terminated"])
     assert int(state.info["falls"]) == 0 and int(state.info["step"]) == 0
 
 
-def test_action_delay_is_quantised_and_capped():
-    delayed = env_module.HB40Env("jt-nf", "forward", EnvConfig())
+def test_action_delay_is_quantised_and_capped_under_the_text_and_absent_under_the_code():
+    delayed = HB40Env("jt-nf", "forward", EnvConfig(protocol=protocols.THESIS_TEXT))
     steps = jax.vmap(delayed._delay_steps)(jax.random.split(jax.random.PRNGKey(0), 2000))
     steps = np.asarray(steps)
-    assert steps.min() >= 0 and steps.max() == delayed.config.substeps  # capped at one control period
+    assert steps.min() >= 0 and steps.max() == delayed.substeps  # capped at one control period
     # |0.03 + N(0, 0.05^2)| / 0.005 s: median about 8 physics steps before the cap, so most are capped
     assert 0.4 < (steps == 5).mean() < 0.8
-    assert env_module.HB40Env("jt-nf", "forward", EnvConfig(action_delay=False))._delay_steps(None) == 0
+    assert HB40Env("jt-nf", "forward")._delay_steps(None) == 0

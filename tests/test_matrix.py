@@ -5,11 +5,14 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from mjx_badger import protocols
 from mjx_badger.env import EnvConfig, HB40Env
 from mjx_badger.experiments import APPROACHES
 
 TASKS = ("forward", "forward-max", "omni-random", "omni-pdec")
-SMOKE = EnvConfig(episode_seconds=1.0)  # 40-step episodes, so a short rollout crosses resets
+# 1 s episodes (40 or 50 steps), so a short rollout crosses resets.
+SMOKE = EnvConfig(protocol=protocols.THESIS_CODE.replace(episode_seconds=1.0))
+SMOKE_TEXT = EnvConfig(protocol=protocols.THESIS_TEXT.replace(episode_seconds=1.0))
 STEPS = 100
 SEEDS = 2
 # Each pair compiles an MJX program (~25 s on 2 cores): the default run covers every approach
@@ -47,7 +50,8 @@ def test_every_approach_and_task_runs_a_vmapped_smoke_episode(approach, task):
     expected_obs = 56 if approach.startswith("cpg") else 54
     assert env.observation_size == expected_obs and obs.shape == (SEEDS, STEPS, expected_obs)
     assert np.isfinite(np.asarray(obs)).all() and np.isfinite(np.asarray(reward)).all()
-    assert (np.asarray(reward) >= 0).all()
+    if task != "forward-max":  # the released max_x reward is unclipped (THESIS_CODE §5)
+        assert (np.asarray(reward) >= 0).all()
     assert np.asarray(done).sum(axis=1).min() >= 2  # every seed finished episodes and carried on
     for name, values in metrics.items():
         assert np.isfinite(np.asarray(values)).all(), name
@@ -55,14 +59,29 @@ def test_every_approach_and_task_runs_a_vmapped_smoke_episode(approach, task):
         assert "curriculum/learned_bins" in metrics
 
 
-def test_cpg_observation_carries_feet_and_phase():
-    env = HB40Env("cpg-vf", "forward", SMOKE)
+def test_cpg_observation_carries_feet_and_phase_under_the_text():
+    env = HB40Env("cpg-vf", "forward", SMOKE_TEXT)
     state = jax.jit(env.reset)(jax.random.PRNGKey(0))
     names = [name for name, _, _ in env.observation_layout]
     assert names[2] == "predicted_feet_position" and names[-1] == "cpg_progress"
     np.testing.assert_allclose(state.obs[24:36], 0.0, atol=1e-6)  # nominal feet
     np.testing.assert_allclose(state.obs[54:56], [0.5, 1.0], atol=1e-6)  # phase 0 as (1 + sin, 1 + cos) / 2
     np.testing.assert_allclose(state.obs[48:51], [0.5, 0.0, 0.0])
+
+
+def test_cpg_observation_carries_the_action_and_swing_heights_under_the_code():
+    """The released CPG observes its scaled action (/3.14) and the two swing heights, [0, pi] at reset."""
+    env = HB40Env("cpg-d", "forward", SMOKE)
+    reset, step = jax.jit(env.reset), jax.jit(env.step)
+    state = reset(jax.random.PRNGKey(0))
+    np.testing.assert_allclose(state.obs[54:56], [0.0, np.pi], atol=1e-6)
+    state = step(state, jnp.ones(env.action_size))
+    np.testing.assert_allclose(state.obs[24:36], np.tile([0.15, 0.15, 0.1], 4) / 3.14, atol=1e-6)
+    np.testing.assert_allclose(state.obs[54:56], [0.0, 0.0], atol=1e-6)  # heights read before the phase moves
+    state = step(state, jnp.ones(env.action_size))
+    # Phase 2 Hz / 40 Hz = 0.05 cycles: one pair lifts smoothstep(0.2) x 0.15 = 0.0156 m, the other stands.
+    np.testing.assert_allclose(sorted(np.asarray(state.obs[54:56])), [0.0, 0.15 * (3 * 0.2**2 - 2 * 0.2**3)],
+                               atol=1e-5)
 
 
 def test_curricula_live_in_the_env_state_per_seed_and_survive_resets():

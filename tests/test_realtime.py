@@ -58,7 +58,7 @@ def standing_trajectory(velocity, dt, seconds, swinging_leg=None, noise=0.0, see
 
 
 def test_leg_odometry_of_a_still_robot_is_zero():
-    sensors = Sensors(0.0, np.asarray(robot.NOMINAL_POSE), np.zeros(12), np.zeros(12), np.array([0, 0, 9.81]),
+    sensors = Sensors(0.0, np.asarray(robot.nominal_pose()), np.zeros(12), np.zeros(12), np.array([0, 0, 9.81]),
                       np.zeros(3), LEVEL)
     np.testing.assert_allclose(leg_odometry(sensors), 0.0, atol=1e-7)
 
@@ -95,8 +95,8 @@ def test_safety_trips_on_tilt_and_joint_limits():
     bot.tip(roll=1.0)
     assert safety.check(bot.read()).startswith("roll")
     bent = bot.read()
-    angles = np.asarray(robot.NOMINAL_POSE).copy()
-    angles[2] = 0.2  # a knee straightened past its stop at 0 rad
+    angles = np.asarray(robot.nominal_pose()).copy()
+    angles[2] = -0.2  # the FL knee folded past its stop at 0 rad (it opens positively)
     over = Sensors(bent.time, angles, bent.joint_velocity, bent.joint_torque, bent.acceleration,
                    bent.angular_velocity, LEVEL)
     assert "FL_knee" in safety.check(over)
@@ -130,7 +130,7 @@ def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path)
     document = run(TINY, bot, tmp_path, resume=False, view=False)
     assert document["complete"] and document["steps"] == TINY.steps
     assert document["falls"] >= 1
-    assert bot.gains_at_reset[0] == (robot.DAMPING_KP, robot.DAMPING_KD)
+    assert bot.gains_at_reset[0] == robot.DAMPING_PD_GAINS
     # The learner ran concurrently: one update per learning step, capped by the replay ratio.
     assert 0 < document["updates"] <= TINY.steps - TINY.warmup_steps
     timing = document["timing"]
@@ -202,8 +202,8 @@ def test_simulated_robot_is_paced_to_the_wall_clock_and_stands():
         bot.stop()
     # Free-running, native MuJoCo would simulate ~40 s in this second; paced, about one.
     assert 0.5 < reading.time < 1.5
-    assert safety.check(reading) is None and abs(bot.truth()["height"] - robot.STANDING_HEIGHT) < 0.05
-    assert bot.gains == (robot.DAMPING_KP, robot.DAMPING_KD)  # stop() leaves it damped
+    assert safety.check(reading) is None and abs(bot.truth()["height"] - 0.26) < 0.05
+    assert bot.gains == robot.DAMPING_PD_GAINS  # stop() leaves it damped
 
 
 def test_realtime_scheduling_is_taken_where_allowed_and_given_back():

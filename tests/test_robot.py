@@ -1,6 +1,7 @@
-"""The HB40 model stands still, and MJX agrees with native MuJoCo."""
+"""The HB40 of the thesis code: its figures, its kinematics, it stands, and MJX agrees with native MuJoCo."""
 
 import contextlib
+import dataclasses
 import io
 
 import jax
@@ -8,7 +9,8 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from mjx_badger import robot
+from mjx_badger import kinematics, protocols, robot
+from mjx_badger.env import EnvConfig, HB40Env
 
 with contextlib.redirect_stdout(io.StringIO()):
     from mujoco import mjx
@@ -16,13 +18,13 @@ with contextlib.redirect_stdout(io.StringIO()):
 STAND_SECONDS = 10.0
 MAX_TILT_RAD = 0.05
 MAX_FOOT_SLIDE_M = 0.01
-MIN_HEIGHT_M = 0.30
 
 
-def _standing_data(model):
+def _standing_data(model, kp=60.0, kd=3.0):
+    robot.set_pd_gains(model, kp, kd)
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
-    data.ctrl[:] = robot.NOMINAL_POSE
+    data.ctrl[:] = robot.nominal_pose()
     mujoco.mj_forward(model, data)
     return data
 
@@ -31,56 +33,125 @@ def _feet_xy(model, data):
     return np.array([data.geom(name).xpos[:2] for name in robot.FOOT_GEOMS])
 
 
-def test_model_figures_match_design():
+def test_model_figures_are_the_thesis_codes():
     model = robot.load_model()
-    assert model.opt.timestep == robot.PHYSICS_DT == 0.005
+    assert model.opt.timestep == robot.HB40.physics_dt == 0.005
+    assert model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL and model.opt.impratio == 100
     # 5.423 trunk + 4 x (0.645 + 0.827 + 0.118) = 11.783 kg
     np.testing.assert_allclose(model.body("trunk").subtreemass[0], 11.783, atol=1e-3)
-    # Uniform 0.27 x 0.178 x 0.10 box of 5.423 kg: I = m/12 (b^2 + c^2) = 0.0188, 0.0375, 0.0473
-    np.testing.assert_allclose(model.body("trunk").inertia, [0.01884, 0.03746, 0.04726], atol=2e-4)
-    assert model.npair == 4 and model.nu == 12
-    assert all(model.geom_contype[g] == 0 and model.geom_conaffinity[g] == 0 for g in range(model.ngeom))
+    # plane.xml's inertias, not a uniform box's (0.019, 0.037, 0.047)
+    np.testing.assert_allclose(model.body("trunk").inertia, [0.6228, 0.4899, 0.1946], atol=1e-6)
+    np.testing.assert_allclose(sorted(model.body("FL_calf").inertia), sorted([0.0213, 0.0212, 0.0002]), atol=1e-6)
+    # Floor against trunk, and per leg thigh motor, calf and foot: 13 pairs.
+    assert model.npair == 13 and model.nu == 12
+    assert model.body("trunk").pos[2] == robot.HB40.home_height == 0.316
+    np.testing.assert_allclose(model.jnt_range[1 + 2], [0.0, 2.53])  # FL knee opens positively
+    np.testing.assert_allclose(model.jnt_range[1 + 5], [-2.53, 0.0])  # FR knee negatively
+
+
+def test_nominal_pose_puts_each_foot_where_the_thesis_code_model_does():
+    """Their nominal pose: each foot ~0.252 m below and ~0.102 m outboard of its hip (THESIS_CODE §1)."""
+    model = robot.load_model()
+    data = mujoco.MjData(model)
+    data.qpos[:] = robot.standing_qpos(model)
+    mujoco.mj_forward(model, data)
+    for i, leg in enumerate(robot.LEGS):
+        foot = data.geom(f"{leg}_foot").xpos - data.body(f"{leg}_hip").xpos
+        assert abs(-foot[2] - 0.252) < 0.002, f"{leg} foot {-foot[2]:.4f} m below its hip"
+        assert abs(robot.LEFT_SIGN[i] * foot[1] - 0.102) < 0.002, f"{leg} foot {foot[1]:.4f} m to the side"
+    # The thesis's [0.1, 0.6, -1.2] in their convention: left legs (0.1/-0.1, -0.6, 1.2), right legs mirrored.
+    np.testing.assert_allclose(robot.nominal_pose().reshape(4, 3),
+                               [[0.1, -0.6, 1.2], [-0.1, 0.6, -1.2], [-0.1, -0.6, 1.2], [0.1, 0.6, -1.2]], atol=1e-7)
+
+
+def test_forward_kinematics_matches_native_mujoco_and_inverts():
+    model = robot.load_model()
+    data = mujoco.MjData(model)
+    rng = np.random.default_rng(0)
+    for _ in range(5):
+        q = rng.uniform(kinematics.JOINT_LOWER * 0.6, kinematics.JOINT_UPPER * 0.6).reshape(-1)
+        data.qpos[:] = robot.standing_qpos(model, pose=q)
+        mujoco.mj_forward(model, data)
+        native = np.array([data.geom(f"{leg}_foot").xpos - data.body(f"{leg}_hip").xpos for leg in robot.LEGS])
+        np.testing.assert_allclose(np.asarray(kinematics.forward(q)), native, atol=1e-6)
+        np.testing.assert_allclose(np.asarray(kinematics.inverse(native)).reshape(-1), q, atol=1e-5)
+
+
+def test_thesis_code_ik_stands_the_feet_0_30_m_below_the_hips():
+    """THESIS_CODE §2: the code's IK asks for 0.25 m but its angles on the model give ~0.30 m."""
+    angles = kinematics.thesis_code_ik(np.asarray([[0.05, 0.02 * s, -0.25] for s in robot.LEFT_SIGN]))
+    feet = np.asarray(kinematics.forward(angles))
+    np.testing.assert_allclose(-feet[:, 2], 0.303, atol=0.005)
+    # Hips 0.08 rad outward on every leg, same signs as the nominal pose.
+    np.testing.assert_allclose(np.sign(np.asarray(angles)), np.sign(robot.nominal_pose().reshape(4, 3)))
+
+
+def test_settles_at_the_thesis_code_heights():
+    """THESIS_CODE §1: dropped from 0.316 m the model settles at 0.262 m (Kp 60 / Kd 3), 0.244 m (Kp 25 / Kd 1)."""
+    for (kp, kd), expected in (((60.0, 3.0), 0.262), ((25.0, 1.0), 0.244)):
+        model = robot.load_model()
+        data = _standing_data(model, kp, kd)
+        for _ in range(400):
+            mujoco.mj_step(model, data)
+        assert abs(data.qpos[2] - expected) < 0.005, f"Kp {kp}: settled at {data.qpos[2]:.3f} m"
 
 
 def test_native_mujoco_stands_still_for_10_s():
     model = robot.load_model()
     data = _standing_data(model)
-    for _ in range(40):  # let the PD settle on its stance (0.2 s) before measuring sliding
+    for _ in range(200):  # let it land and settle (1 s) before measuring sliding
         mujoco.mj_step(model, data)
     feet0 = _feet_xy(model, data)
-    min_height, max_tilt = np.inf, 0.0
-    for _ in range(int(STAND_SECONDS / robot.PHYSICS_DT)):
+    max_tilt = 0.0
+    for _ in range(int(STAND_SECONDS / robot.HB40.physics_dt)):
         mujoco.mj_step(model, data)
-        min_height = min(min_height, data.qpos[2])
         max_tilt = max(max_tilt, np.abs(data.qpos[4:6]).max() * 2)  # small-angle roll/pitch from the quaternion
     slide = np.abs(_feet_xy(model, data) - feet0).max()
-    assert min_height > MIN_HEIGHT_M, f"trunk sank to {min_height:.3f} m"
     assert max_tilt < MAX_TILT_RAD, f"trunk tilted {max_tilt:.3f} rad"
     assert slide < MAX_FOOT_SLIDE_M, f"a foot slid {slide * 1000:.1f} mm"
 
 
-def test_mjx_stands_still_for_10_s(env, env_fns):
-    reset, step = env_fns
+def _rollout(env, seconds):
+    reset, step = jax.jit(env.reset), jax.jit(env.step)
     state = reset(jax.random.PRNGKey(0))
-    heights, tilts = [], []
-    for _ in range(int(STAND_SECONDS * env.config.control_hz)):
+    heights, tilts, contacts = [], [], []
+    for _ in range(int(seconds * env.control_hz)):
         state = step(state, jnp.zeros(env.action_size))
         heights.append(float(state.metrics["height"]))
         tilts.append(float(jnp.abs(state.obs[51:53]).max()))  # projected gravity x, y = sin(tilt)
-    assert int(state.info["falls"]) == 0
-    assert min(heights) > MIN_HEIGHT_M, f"trunk sank to {min(heights):.3f} m"
-    assert max(tilts) < MAX_TILT_RAD
+    return state, np.array(heights), np.array(tilts)
+
+
+def test_mjx_zero_action_stands_for_10_s(env):
+    """JT at zero action under the thesis-code protocol (Kp 25 / Kd 1, 50 Hz): no fall, level, in place.
+
+    The soft gains let the trunk pitch a few degrees on landing from the 4.4 cm drop, hence 0.1 rad.
+    """
+    state, heights, tilts = _rollout(env, STAND_SECONDS)
+    assert int(state.info["would_falls"]) == 0
+    assert heights[-100:].min() > 0.22, f"trunk sank to {heights.min():.3f} m"
+    assert tilts.max() < 0.1
     assert abs(float(state.pipeline_state.qpos[0])) < 0.05, "trunk drifted in x"
+
+
+def test_mjx_cpg_at_zero_action_trots_in_place_for_10_s():
+    """CPG-D at zero action (thesis-code): the trot keeps the trunk near 0.30 m, upright, never a would-be fall."""
+    env = HB40Env("cpg-d", "forward", EnvConfig(protocol=protocols.THESIS_CODE.replace(episode_seconds=20.0)))
+    state, heights, tilts = _rollout(env, STAND_SECONDS)
+    assert int(state.info["would_falls"]) == 0
+    assert 0.25 < heights[-200:].mean() < 0.33, f"trunk at {heights[-200:].mean():.3f} m"
+    assert tilts.max() < 0.3
+    assert abs(float(state.pipeline_state.qpos[0])) < 1.0, "trunk walked off"
 
 
 def test_mjx_matches_native_mujoco_over_one_second():
     """Same state, same control sequence: MJX (float32) tracks the C engine over 200 physics steps."""
     model = robot.load_model()
     data = _standing_data(model)
-    steps = int(1.0 / robot.PHYSICS_DT)
-    t = np.arange(steps) * robot.PHYSICS_DT
-    # Gentle 2 Hz joint-target wave so the feet load and unload.
-    controls = robot.NOMINAL_POSE + 0.15 * np.sin(2 * np.pi * 2.0 * t)[:, None] * np.tile([0.5, 1, 1], 4)
+    steps = int(1.0 / robot.HB40.physics_dt)
+    t = np.arange(steps) * robot.HB40.physics_dt
+    # Gentle 2 Hz joint-target wave so the feet load and unload after the drop.
+    controls = robot.nominal_pose() + 0.15 * np.sin(2 * np.pi * 2.0 * t)[:, None] * np.tile([0.5, 1, 1], 4)
 
     native = []
     for u in controls:
@@ -90,7 +161,7 @@ def test_mjx_matches_native_mujoco_over_one_second():
     native = np.array(native)
 
     mx = mjx.put_model(model)
-    dx = mjx.put_data(model, _standing_data(model))
+    dx = mjx.put_data(model, _standing_data(robot.load_model()))
 
     def body(dx, u):
         dx = mjx.step(mx, dx.replace(ctrl=u))
@@ -102,3 +173,14 @@ def test_mjx_matches_native_mujoco_over_one_second():
     trunk_error = np.abs(ours[:, :3] - native[:, :3]).max()
     assert joint_error < 0.02, f"joint angles differ by up to {joint_error:.4f} rad"
     assert trunk_error < 0.01, f"trunk position differs by up to {trunk_error:.4f} m"
+
+
+def test_the_spec_is_the_one_place_of_the_robots_figures():
+    """A changed figure in the spec reaches the model and the kinematics built from it."""
+    longer = dataclasses.replace(robot.HB40, calf_length=0.25)
+    model = robot.load_model(longer)
+    data = mujoco.MjData(model)
+    data.qpos[:] = robot.standing_qpos(model, longer)
+    mujoco.mj_forward(model, data)
+    drop = data.body("FL_hip").xpos[2] - data.geom("FL_foot").xpos[2]
+    assert drop > 0.27, "the calf length did not reach the model"

@@ -8,7 +8,7 @@ import optax
 from flax import struct
 
 from mjx_badger.agents.config import AgentConfig
-from mjx_badger.agents.losses import Transition, make_losses
+from mjx_badger.agents.losses import Transition, actor_variables, make_losses
 from mjx_badger.agents.networks import Actor, Critic, sample_action
 
 
@@ -16,6 +16,7 @@ class AgentState(struct.PyTreeNode):
     """Parameters, optimiser states and update count of one agent."""
 
     actor_params: Any
+    actor_stats: Any
     critic_params: Any
     critic_stats: Any
     target_params: Any
@@ -37,7 +38,8 @@ class Agent(NamedTuple):
 
 def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
     """Build the pure functions of the agent `cfg` for the given observation and action sizes."""
-    actor = Actor(action_size=action_size, hidden=cfg.hidden)
+    actor = Actor(action_size=action_size, hidden=cfg.hidden, batch_renorm=cfg.actor_batch_renorm,
+                  renorm_momentum=cfg.renorm_momentum, renorm_warmup_steps=cfg.renorm_warmup_steps)
     critic = Critic(
         ensemble_size=cfg.ensemble_size,
         hidden=cfg.hidden,
@@ -54,12 +56,14 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
         actor_key, critic_key = jax.random.split(key)
         obs = jnp.zeros((1, obs_size))
         action = jnp.zeros((1, action_size))
-        actor_params = actor.init(actor_key, obs)
+        actor_vars = actor.init(actor_key, obs)
+        actor_params = {"params": actor_vars["params"]}  # the stats ride in their own field
         critic_vars = critic.init(critic_key, obs, action)
         critic_params = critic_vars["params"]
         log_alpha = jnp.log(jnp.float32(cfg.initial_alpha))
         return AgentState(
             actor_params=actor_params,
+            actor_stats=actor_vars.get("batch_stats", {}),
             critic_params=critic_params,
             critic_stats=critic_vars.get("batch_stats", {}),
             target_params=critic_params if cfg.target_network else None,
@@ -72,7 +76,7 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
 
     def act(state: AgentState, obs, key, deterministic=False):
         """Action in [-1, 1]^A for obs (..., O): a policy sample, or its mode if deterministic."""
-        mean, log_std = actor.apply(state.actor_params, obs)
+        mean, log_std = actor.apply(actor_variables(state.actor_params, state.actor_stats), obs)
         if deterministic:
             return jnp.tanh(mean)
         return sample_action(mean, log_std, key)[0]
@@ -85,8 +89,8 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
         """
         critic_key, actor_key = jax.random.split(key)
         (_, (stats, metrics)), grads = jax.value_and_grad(losses.critic, has_aux=True)(
-            state.critic_params, state.critic_stats, state.target_params, state.actor_params, state.log_alpha,
-            batch, critic_key)
+            state.critic_params, state.critic_stats, state.target_params, state.actor_params, state.actor_stats,
+            state.log_alpha, batch, critic_key)
         updates, critic_opt = optimizer.update(grads, state.critic_opt, state.critic_params)
         critic_params = optax.apply_updates(state.critic_params, updates)
         target_params = state.target_params
@@ -96,21 +100,26 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
                               target_params=target_params, updates=state.updates + 1)
 
         def actor_step(state):
-            (loss, log_prob), grads = jax.value_and_grad(losses.actor, has_aux=True)(
-                state.actor_params, state.critic_params, state.critic_stats, state.log_alpha, batch.obs, actor_key)
+            (loss, (log_prob, actor_stats)), grads = jax.value_and_grad(losses.actor, has_aux=True)(
+                state.actor_params, state.actor_stats, state.critic_params, state.critic_stats, state.log_alpha,
+                batch.obs, actor_key)
             updates, actor_opt = optimizer.update(grads, state.actor_opt, state.actor_params)
             actor_params = optax.apply_updates(state.actor_params, updates)
             alpha_grad = jax.grad(losses.alpha)(state.log_alpha, log_prob)
             updates, alpha_opt = optimizer.update(alpha_grad, state.alpha_opt, state.log_alpha)
             log_alpha = optax.apply_updates(state.log_alpha, updates)
-            state = state.replace(actor_params=actor_params, actor_opt=actor_opt, log_alpha=log_alpha,
-                                  alpha_opt=alpha_opt)
+            state = state.replace(actor_params=actor_params, actor_stats=actor_stats, actor_opt=actor_opt,
+                                  log_alpha=log_alpha, alpha_opt=alpha_opt)
             return state, loss, -jnp.mean(log_prob)
 
         def skip(state):
             return state, jnp.float32(jnp.nan), jnp.float32(jnp.nan)
 
-        state, actor_loss, entropy = jax.lax.cond(update_index % cfg.policy_delay == 0, actor_step, skip, state)
+        due = update_index % cfg.policy_delay == 0
+        if cfg.actor_updates_per_step is not None:
+            # The last of each step's critic updates carry the actor's (RL-X: 20 critic, then 1 actor).
+            due &= update_index % cfg.updates_per_step >= cfg.updates_per_step - cfg.actor_updates_per_step
+        state, actor_loss, entropy = jax.lax.cond(due, actor_step, skip, state)
         metrics = dict(metrics, actor_loss=actor_loss, entropy=entropy, alpha=jnp.exp(state.log_alpha))
         return state, metrics
 

@@ -16,13 +16,17 @@ class AgentConfig:
     ensemble_size: int = 2
     gamma: float = 0.99
     target_entropy_per_action: float = -0.5
-    """Target entropy = this x |A| (Table 4.3: -dim(A)/2)."""
+    """Target entropy = this x |A| (Table 4.3: -dim(A)/2) ..."""
+    target_entropy: float | None = None
+    """... unless this fixes it whatever |A| is (the released CrossQ scripts: -6)."""
     initial_alpha: float = 1.0
     adam_b1: float = 0.9
     updates_per_step: int = 1
     """Gradient updates per environment step (the replay or UTD ratio)."""
     policy_delay: int = 1
-    """Actor and temperature are updated on every n-th critic update."""
+    """Actor and temperature are updated on every n-th critic update ..."""
+    actor_updates_per_step: int | None = None
+    """... and at most this many times per environment step (None: no cap; RL-X's UTD and DroQ: 1)."""
     target_network: bool = True
     tau: float = 0.005
     """Polyak factor of the target critic; unused without a target network."""
@@ -30,6 +34,9 @@ class AgentConfig:
     """Batch renormalisation in the critic, fed the joint [s; s'] batch (CrossQ)."""
     renorm_momentum: float = 0.99
     renorm_warmup_steps: int = 100_000
+    """Updates of plain batch normalisation before renormalisation starts."""
+    actor_batch_renorm: bool = False
+    """Batch renormalisation in the actor too, after its input and every hidden layer (the released CrossQ)."""
     dropout_rate: float = 0.0
     layer_norm: bool = False
     control_hz: float = 40.0

@@ -30,6 +30,11 @@ class Losses(NamedTuple):
     alpha: callable
 
 
+def actor_variables(params, stats):
+    """flax variables of the actor (params holds {'params': ...}), plus batch statistics when it has any."""
+    return dict(params, batch_stats=stats) if stats else params
+
+
 def critic_variables(params, stats):
     """flax variables of the critic: params plus batch statistics when it has any."""
     return {"params": params, "batch_stats": stats} if stats else {"params": params}
@@ -37,17 +42,20 @@ def critic_variables(params, stats):
 
 def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
     """Loss functions for the algorithm described by `cfg`."""
-    target_entropy = cfg.target_entropy_per_action * action_size
+    target_entropy = (cfg.target_entropy if cfg.target_entropy is not None
+                      else cfg.target_entropy_per_action * action_size)
 
-    def policy(actor_params, obs, key):
-        mean, log_std = actor.apply(actor_params, obs)
+    def policy(actor_params, actor_stats, obs, key):
+        """A policy sample for the critic's target: the actor's batch statistics in evaluation mode."""
+        mean, log_std = actor.apply(actor_variables(actor_params, actor_stats), obs)
         return sample_action(mean, log_std, key)
 
-    def critic_loss(critic_params, critic_stats, target_params, actor_params, log_alpha, batch: Transition, key):
+    def critic_loss(critic_params, critic_stats, target_params, actor_params, actor_stats, log_alpha,
+                    batch: Transition, key):
         """Soft Bellman residual; returns (loss, (new batch stats, metrics))."""
         policy_key, dropout_key = jax.random.split(key)
         target_key = jax.random.fold_in(dropout_key, 1)
-        next_action, next_log_prob = policy(actor_params, batch.next_obs, policy_key)
+        next_action, next_log_prob = policy(actor_params, actor_stats, batch.next_obs, policy_key)
         variables = critic_variables(critic_params, critic_stats)
         rngs = {"dropout": dropout_key}
         if cfg.target_network:
@@ -72,17 +80,26 @@ def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
         metrics = {"critic_loss": loss, "q_mean": jnp.mean(q)}
         return loss, (updated.get("batch_stats", {}), metrics)
 
-    def actor_loss(actor_params, critic_params, critic_stats, log_alpha, obs, key):
-        """alpha log pi - min Q; returns (loss, log_prob).
+    def actor_loss(actor_params, actor_stats, critic_params, critic_stats, log_alpha, obs, key):
+        """alpha log pi - min Q; returns (loss, (log_prob, new actor batch stats)).
 
         The critic runs in evaluation mode (running batch statistics) except that a dropout
-        critic keeps its dropout, as DroQ trains its actor against the regularised Q.
+        critic keeps its dropout, as DroQ trains its actor against the regularised Q. A batch-
+        renormalised actor runs in training mode here, as the released CrossQ does.
         """
-        action, log_prob = policy(actor_params, obs, key)
+        mean, log_std, new_stats = apply_actor_train(actor_params, actor_stats, obs)
+        action, log_prob = sample_action(mean, log_std, key)
         q = critic.apply(critic_variables(critic_params, critic_stats), obs, action, train=cfg.dropout_rate > 0,
                          rngs={"dropout": jax.random.fold_in(key, 1)})
         loss = jnp.mean(jnp.exp(log_alpha) * log_prob - jnp.min(q, axis=0))
-        return loss, log_prob
+        return loss, (log_prob, new_stats)
+
+    def apply_actor_train(actor_params, actor_stats, obs):
+        if not actor_stats:
+            return (*actor.apply(actor_params, obs), actor_stats)
+        (mean, log_std), updated = actor.apply(actor_variables(actor_params, actor_stats), obs, train=True,
+                                               mutable=["batch_stats"])
+        return mean, log_std, updated["batch_stats"]
 
     def alpha_loss(log_alpha, log_prob):
         """Temperature objective J(alpha) of §2.3 on log alpha."""

@@ -82,16 +82,26 @@ class Dropout(nn.Module):
 
 
 class Actor(nn.Module):
-    """Tanh-squashed Gaussian policy: obs (B, O) -> mean, log_std (B, A)."""
+    """Tanh-squashed Gaussian policy: obs (B, O) -> mean, log_std (B, A).
+
+    With `batch_renorm` (the released CrossQ) the input and every hidden layer are batch
+    renormalised, running statistics in evaluation mode (`train=False`), as when acting.
+    """
 
     action_size: int
     hidden: Sequence[int] = (256, 256)
+    batch_renorm: bool = False
+    renorm_momentum: float = 0.99
+    renorm_warmup_steps: int = 100_000
 
     @nn.compact
-    def __call__(self, obs):
-        x = obs
+    def __call__(self, obs, train: bool = False):
+        norm = lambda: BatchRenorm(momentum=self.renorm_momentum, warmup_steps=self.renorm_warmup_steps)
+        x = norm()(obs, train) if self.batch_renorm else obs
         for width in self.hidden:
             x = nn.relu(nn.Dense(width)(x))
+            if self.batch_renorm:
+                x = norm()(x, train)
         mean = nn.Dense(self.action_size)(x)
         log_std = nn.Dense(self.action_size)(x)
         # Squash log_std smoothly into its range so the gradient never dies at a clip.

@@ -32,7 +32,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mjx_badger import cpg, results, robot, tasks
+from mjx_badger import cpg, protocols, results, robot, tasks
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS, AgentConfig, make_agent
 from mjx_badger.agents.losses import Transition
@@ -104,7 +104,7 @@ class RealtimeConfig:
             raise ValueError(f"task {self.task!r} is not one of {sorted(tasks.TASKS)}")
         if self.planned_contacts and not self.approach.startswith("cpg"):
             raise ValueError("planned contacts come from the CPG's phase; the joint-target approaches have none")
-        physics_hz = round(1.0 / robot.PHYSICS_DT)
+        physics_hz = round(1.0 / robot.HB40.physics_dt)
         if not 1.0 <= self.hz <= physics_hz:
             raise ValueError(f"control rate {self.hz} Hz must lie in [1, {physics_hz}] Hz")
         if self.steps < 1 or self.warmup_steps < 0:
@@ -205,7 +205,9 @@ def build(config: RealtimeConfig):
     """Environment (observation, action pipeline, task), agent and the two jitted functions."""
     config.validate()
     task = tasks.forward(config.target_velocity) if config.task == "forward" else tasks.make_task(config.task)
-    env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, episode_seconds=config.episode_seconds))
+    # The on-robot loop observes as a robot can (IMU with gravity, gyro differences): the thesis-text protocol.
+    protocol = protocols.THESIS_TEXT.replace(episode_seconds=config.episode_seconds)
+    env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, protocol=protocol))
     agent = make_agent(config.agent_config, env.observation_size, env.action_size)
     has_cpg = config.approach.startswith("cpg")
 
@@ -370,7 +372,7 @@ def _episode(config, bot, env, tick, learner, buffer, progress, estimator, task_
         if trip:
             bot.damp()
         elif not last:
-            bot.command(np.asarray(target), robot.KP, robot.KD)
+            bot.command(np.asarray(target), *robot.ROBOT_PD_GAINS)
         obs, reward = np.asarray(obs), float(reward)
         if stepping:
             buffer.add(previous[0], previous[1], reward, obs, 0.0 if trip else 1.0)
@@ -438,7 +440,7 @@ def _evaluate(config, bot, env, evaluate_tick, agent_state, task, key, estimator
         action_state, target = evaluate_tick(agent_state, action_state, command, s.joint_angle, s.joint_velocity,
                                              s.acceleration, s.angular_velocity, prev_gyro, reading.velocity,
                                              reading.gravity)
-        bot.command(np.asarray(target), robot.KP, robot.KD)
+        bot.command(np.asarray(target), *robot.ROBOT_PD_GAINS)
         prev_gyro = s.angular_velocity
         estimated.append(reading.velocity[0])
         true.append(bot.truth()["linear_velocity"][0] if hasattr(bot, "truth") else np.nan)

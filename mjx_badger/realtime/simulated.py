@@ -50,9 +50,9 @@ class SimulatedHB40:
         self._lock = threading.Lock()
         self._running = threading.Event()
         self._thread: threading.Thread | None = None
-        self._gains = (robot.KP, robot.KD)
+        self._gains = robot.ROBOT_PD_GAINS
         self._applied_gains = None
-        self._targets = np.asarray(robot.NOMINAL_POSE, dtype=np.float64)
+        self._targets = np.asarray(robot.nominal_pose(), dtype=np.float64)
         self._trunk = self.model.body("trunk").id
         self._accel = robot.sensor_slice(self.model, "accelerometer")
         self._gyro = robot.sensor_slice(self.model, "gyro")
@@ -81,7 +81,7 @@ class SimulatedHB40:
 
     def damp(self) -> None:
         with self._lock:
-            self._gains = (robot.DAMPING_KP, robot.DAMPING_KD)
+            self._gains = robot.DAMPING_PD_GAINS
             self.damp_calls += 1
 
     def reset(self) -> None:
@@ -119,8 +119,8 @@ class SimulatedHB40:
     def _stand(self):
         mujoco.mj_resetData(self.model, self.data)
         self.data.qpos[:] = robot.standing_qpos(self.model)
-        self._targets = np.asarray(robot.NOMINAL_POSE, dtype=np.float64)
-        self._gains = (robot.KP, robot.KD)
+        self._targets = np.asarray(robot.nominal_pose(), dtype=np.float64)
+        self._gains = robot.ROBOT_PD_GAINS
         self.data.ctrl[:] = self._targets
         mujoco.mj_forward(self.model, self.data)
         self._sensors = self._measure()

@@ -1,0 +1,47 @@
+"""The thesis's claims as predicates: each verdict follows from the numbers in the results files."""
+
+import numpy as np
+
+from mjx_badger import claims, results
+from mjx_badger.experiments import EXPERIMENTS, result_name
+
+
+def _document(velocity, falls, would_falls=0.0, chunks=20):
+    """A results document of 2 seeds whose velocity ramps to `velocity` by chunk 5 and whose falls end at `falls`."""
+    ramp = np.minimum(np.arange(1, chunks + 1) / 5, 1.0) * velocity
+    return {"schema": results.SCHEMA, "config": {"warmup_steps": 1000}, "seeds": [0, 1], "complete": True,
+            "steps": [1000 * (i + 1) for i in range(chunks)], "sim_minutes": [0.4 * (i + 1) for i in range(chunks)],
+            "metrics": {"train/forward_velocity": [[v, v] for v in ramp],
+                        "train/falls": [[falls * (i + 1) / chunks] * 2 for i in range(chunks)],
+                        "train/would_falls": [[would_falls] * 2 for _ in range(chunks)]}}
+
+
+def _write(folder, experiment, name, document):
+    run = next(r for r in EXPERIMENTS[experiment].runs if EXPERIMENTS[experiment].label(r) == name)
+    results.write(folder / experiment / result_name(run), document)
+
+
+def test_forward_claims_follow_the_numbers(tmp_path):
+    folder = tmp_path / "quick" / "thesis-code"
+    for name, falls in (("jt-nf", 13.0), ("jt-oef", 7.0), ("jt-lpf", 6.0)):
+        _write(folder, "forward", name, _document(0.55, falls))
+    for name, falls in (("cpg-d", 0.0), ("cpg-vf", 0.0), ("cpg-rt", 2.0)):
+        _write(folder, "forward", name, _document(0.5, falls, would_falls=4.0))
+    board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}
+    assert board["jt-falls"].holds is True and "JT-NF 13.0" in board["jt-falls"].ours
+    # CPG-RT fell twice: the claim fails, and the would-be falls are shown beside.
+    assert board["cpg-never-falls"].holds is False and "would have fired: 4.0" in board["cpg-never-falls"].ours
+    assert board["jt-convergence"].holds is True  # every approach reaches 0.45 m/s at chunk 5 (5k steps)
+    assert board["crossq-first"].holds is None and "no results" in board["crossq-first"].ours
+    text = claims.scoreboard_text(list(board.values()), "quick", "thesis-code")
+    assert "thesis-code protocol, quick profile: 3 of 15 hold" in text
+    table = claims.scoreboard_markdown({"thesis-code": list(board.values())})
+    assert "| **claims that hold** | | 3 of 15 |" in table
+
+
+def test_jt_falls_fail_when_far_from_the_thesis(tmp_path):
+    folder = tmp_path / "quick" / "thesis-text"
+    for name, falls in (("jt-nf", 58.0), ("jt-oef", 23.0), ("jt-lpf", 5.0)):
+        _write(folder, "forward", name, _document(0.5, falls))
+    board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-text")}
+    assert board["jt-falls"].holds is False  # 58 is more than 3x the thesis's 13

@@ -1,0 +1,240 @@
+"""Every protocol field is applied: each test fails if its field were ignored."""
+
+import dataclasses
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.signal
+
+from conftest import seed_keys
+from mjx_badger import actions, filters, protocols, tasks
+from mjx_badger.agents import make_agent
+from mjx_badger.agents.losses import Transition
+from mjx_badger.env import EnvConfig, HB40Env, observation_layout
+from mjx_badger.train import TrainConfig, make_train
+
+CODE, TEXT = protocols.THESIS_CODE, protocols.THESIS_TEXT
+
+
+def test_the_two_protocols_differ_in_every_field_and_are_frozen():
+    for field in protocols.FIELDS:
+        if field not in ("cpg_pd_gains",):  # the one figure both share, kept as a field for swaps
+            assert getattr(CODE, field) != getattr(TEXT, field), field
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        CODE.episode_seconds = 20.0
+    with pytest.raises(ValueError, match="unknown protocol field"):
+        CODE.replace(no_such_field=1)
+    with pytest.raises(ValueError, match="thesis-code, thesis-text"):
+        protocols.get("thesis-paper")
+    assert protocols.other_value("lowpass", "thesis-code") == "first-order"
+
+
+def test_butterworth_low_pass_matches_scipy_lfilter():
+    """thesis-code's JT-LPF: scipy.signal.butter(2, 4 Hz, fs=40) run with lfilter from rest."""
+    b, a = scipy.signal.butter(2, 4.0, fs=40.0)
+    np.testing.assert_allclose(filters.butterworth_coefficients(4.0, 40.0), (b, a), rtol=1e-12)
+    x = np.random.default_rng(0).normal(size=(60, 12))
+    rest = np.linspace(-1.0, 1.0, 12)
+    expected = scipy.signal.lfilter(b, a, x - rest, axis=0) + rest  # zero state on the offsets from rest
+    filt = filters.butterworth(1 / 50)
+    _, ours = jax.lax.scan(filt.step, filt.init(jnp.asarray(rest)), jnp.asarray(x))
+    np.testing.assert_allclose(ours, expected, atol=1e-5)
+    # The JT-LPF action space uses it under thesis-code and the first-order filter under thesis-text.
+    code = actions.make_action_space("jt-lpf", 0.02, CODE)
+    text = actions.make_action_space("jt-lpf", 0.02, TEXT)
+    assert isinstance(code.init().filter, filters.BiquadState)
+    assert isinstance(text.init().filter, filters.LowPassState)
+
+
+def test_one_euro_first_output_is_the_first_input_under_the_code():
+    x = jnp.array([0.3, -0.2])
+    code = filters.one_euro(0.02, start_at_first_input=True)
+    _, first = code.step(code.init(jnp.zeros(2)), x)
+    np.testing.assert_allclose(first, x)
+    text = filters.one_euro(0.02)
+    _, first_text = text.step(text.init(jnp.zeros(2)), x)
+    assert np.abs(np.asarray(first_text)).max() < 0.2  # started at rest, it moves only part of the way
+    space = actions.make_action_space("jt-oef", 0.02, CODE)
+    _, target = space.step(space.init(), jnp.ones(12))
+    np.testing.assert_allclose(target - space.init().target, np.tile([0.2, 0.4, 0.4], 4), atol=1e-6)
+
+
+def _tilted(env, angle, axis=0):
+    """Initial data with the trunk turned by `angle` about x (axis 0) or y (axis 1)."""
+    data = env._init_data
+    quat = jnp.zeros(4).at[0].set(jnp.cos(angle / 2)).at[1 + axis].set(jnp.sin(angle / 2))
+    return data.replace(qpos=data.qpos.at[3:7].set(quat))
+
+
+def _rule(env, data, power_steps=0):
+    rot = data.xmat[env._trunk]
+    roll, pitch = jnp.arctan2(rot[2, 1], rot[2, 2]), jnp.arcsin(-rot[2, 0])
+    motion = tasks.Motion(jnp.zeros(3), jnp.zeros(3), roll, pitch, jnp.zeros(12))
+    return bool(env._fall_rule(data, motion, jnp.int32(power_steps)))
+
+
+def _forward_data(env, data):
+    from mujoco import mjx
+
+    return mjx.forward(env.mjx_model, data)
+
+
+def test_termination_rules_of_the_code_and_the_text(env):
+    """thesis-code: 30 deg, |omega| > 4 rad/s, trunk-floor contact, 3 steps over 1500 W; thesis-text: 0.8 rad, 0.15 m."""
+    text = HB40Env("jt-nf", "forward", EnvConfig(protocol=TEXT))
+    level = env._init_data
+    assert not _rule(env, level) and not _rule(text, level)
+    tilt_35 = _forward_data(env, _tilted(env, np.deg2rad(35)))
+    assert _rule(env, tilt_35) and not _rule(text, tilt_35)  # 35 deg: beyond 30 deg, within 0.8 rad
+    spinning = level.replace(qvel=level.qvel.at[5].set(4.5))
+    assert _rule(env, spinning) and not _rule(text, spinning)
+    assert not _rule(env, level, power_steps=2) and _rule(env, level, power_steps=3)
+    # The trunk box (half height 0.05 m) level with its bottom 1 mm into the floor, and 1 mm above it.
+    on_floor = _forward_data(env, level.replace(qpos=level.qpos.at[2].set(0.049)))
+    above = _forward_data(env, level.replace(qpos=level.qpos.at[2].set(0.051)))
+    assert _rule(env, on_floor) and not _rule(env, above)
+
+
+def test_joint_velocity_is_clipped_to_25_rad_s_under_the_code(env, env_fns):
+    reset, step = env_fns
+    state = reset(jax.random.PRNGKey(0))
+    flung = state.pipeline_state.replace(qvel=state.pipeline_state.qvel.at[6:].set(80.0))
+    state = step(state.replace(pipeline_state=flung), jnp.zeros(12))
+    assert float(jnp.abs(state.info["next_obs"][12:24]).max()) <= 25.0 / 25 + 1e-5  # observed as qdot / 25
+
+
+@pytest.fixture(scope="module")
+def cpg_code_env():
+    env = HB40Env("cpg-d", "forward", EnvConfig(protocol=CODE))
+    return env, jax.jit(env.reset), jax.jit(env.step)
+
+
+def test_cpg_under_the_code_never_terminates_but_counts_the_would_be_fall(cpg_code_env):
+    env, reset, step = cpg_code_env
+    state = reset(jax.random.PRNGKey(0))
+    tipped = state.pipeline_state.replace(qpos=state.pipeline_state.qpos.at[3:7].set(
+        jnp.array([np.cos(np.pi / 4), np.sin(np.pi / 4), 0.0, 0.0])))
+    state = step(state.replace(pipeline_state=tipped), jnp.zeros(env.action_size))
+    assert not bool(state.info["terminated"]) and float(state.done) == 0.0 and int(state.info["step"]) == 1
+    assert int(state.info["falls"]) == 0 and int(state.info["would_falls"]) == 1
+    # Lying there, the rule keeps firing; the would-be fall is counted once.
+    state = step(state, jnp.zeros(env.action_size))
+    assert int(state.info["would_falls"]) == 1
+
+
+def test_rewards_take_the_codes_forms():
+    code, text = tasks.make_task("forward", "thesis-code"), tasks.make_task("forward", "thesis-text")
+    cmd = jnp.array([0.5, 0.0, 0.0])
+    motion = lambda vx, yaw=0.0: tasks.Motion(jnp.array([vx, 0.0, 0.0]), jnp.array([0.0, 0.0, yaw]), 0.0, 0.0,
+                                              jnp.zeros(12))
+    # Just above 2 v_t = 1.0 m/s: the code's term jumps to 1 - 0.6 / 1.0 = 0.4; the text's ramp is (2 - 1.1) / 1 = 0.9.
+    assert float(code.reward(motion(1.1), cmd)[0]) == pytest.approx(4.0, abs=1e-5)
+    assert float(text.reward(motion(1.1), cmd)[0]) == pytest.approx(9.0, abs=1e-5)
+    # Yaw: 0.1 |w| in the code, 0.1 w^2 in the text; at w = 0.5: 10 (1 - 0.05) vs 10 (1 - 0.025).
+    assert float(code.reward(motion(0.5, 0.5), cmd)[0]) == pytest.approx(9.5, abs=1e-5)
+    assert float(text.reward(motion(0.5, 0.5), cmd)[0]) == pytest.approx(9.75, abs=1e-5)
+    # max_x is unclipped in the code: walking backward earns a negative reward; its command stays (0.5, 0, 0).
+    code_max, text_max = tasks.make_task("forward-max", "thesis-code"), tasks.make_task("forward-max", "thesis-text")
+    assert float(code_max.reward(motion(-0.5), cmd)[0]) == pytest.approx(10 * (-0.5 / 0.5), abs=1e-5)
+    assert float(text_max.reward(motion(-0.5), cmd)[0]) == 0.0
+    np.testing.assert_allclose(code_max.command((), None)[1], [0.5, 0.0, 0.0])
+    # track_xy: 0.5 |yaw error| and no energy term in the code.
+    omni = tasks.make_task("omni-random", "thesis-code")
+    heavy = tasks.Motion(jnp.array([0.5, 0.0, 0.0]), jnp.array([0.0, 0.0, 0.2]), 0.0, 0.0, jnp.full(12, 10.0))
+    assert float(omni.reward(heavy, cmd)[0]) == pytest.approx(10 * (1 - 0.5 * 0.2), abs=1e-5)
+
+
+def test_observation_scales_follow_the_protocol():
+    code = {n: s for n, _, s in observation_layout(actions.make_action_space("jt-nf", 0.02, CODE), CODE)}
+    text = {n: s for n, _, s in observation_layout(actions.make_action_space("jt-nf", 0.02, TEXT), TEXT)}
+    assert code["joint_angle"] == pytest.approx(1 / 3.14) and code["joint_velocity"] == pytest.approx(1 / 25)
+    assert code["trunk_angular_velocity"] == pytest.approx(0.1)
+    assert text["joint_angle"] == 1.0 and text["joint_velocity"] == 0.1
+
+
+TINY = dict(approach="jt-nf", algo="crossq", task="forward", total_steps=40, chunk_steps=20, warmup_steps=20,
+            eval_steps=5)
+
+
+def _first_chunk(protocol: str, changes: tuple = ()):
+    config = TrainConfig(protocol=protocol, protocol_changes=changes, **TINY)
+    trainer = make_train(config)
+    carry = jax.jit(jax.vmap(trainer.init))(seed_keys([0]))
+    carry, metrics = jax.jit(jax.vmap(trainer.chunk, in_axes=(0, None)))(carry, 0)
+    return trainer, carry, metrics
+
+
+def test_truncation_bootstraps_from_the_next_episodes_start_under_the_code():
+    """5-step (code, 50 Hz) or 4-step (text, 40 Hz) episodes of random warm-up actions, which do not tip the robot."""
+    for name in ("thesis-code", "thesis-text"):
+        trainer, carry, metrics = _first_chunk(name, (("episode_seconds", 0.1), ("action_delay", False)))
+        assert float(metrics["train/falls_total"][0]) == 0.0
+        data = jax.tree.map(lambda x: np.asarray(x[0]), carry.buffer.data)
+        last = trainer.env.episode_steps - 1  # the first episode's time-out row
+        assert data.discount[last] == 1.0
+        same = np.allclose(data.next_obs[last], data.obs[last + 1], atol=1e-6)
+        assert same == (name == "thesis-code"), name
+
+
+def test_falls_in_the_warm_up_are_counted_only_under_the_text(monkeypatch):
+    """With every step a fall, the warm-up chunk counts 20 falls under the text and none under the code."""
+    monkeypatch.setattr(HB40Env, "_fall_rule", lambda self, data, motion, power_steps: jnp.bool_(True))
+    _, _, code = _first_chunk("thesis-code")
+    _, _, text = _first_chunk("thesis-text")
+    assert float(code["train/falls_total"][0]) == 20.0 and float(code["train/falls"][0]) == 0.0
+    assert float(text["train/falls"][0]) == 20.0
+
+
+def _batch(obs=4, act=2, n=8):
+    keys = jax.random.split(jax.random.PRNGKey(0), 4)
+    return Transition(jax.random.normal(keys[0], (n, obs)), jax.random.uniform(keys[1], (n, act), minval=-1),
+                      jax.random.normal(keys[2], (n,)), jax.random.normal(keys[3], (n, obs)), jnp.ones(n))
+
+
+def test_crossq_under_the_code_renormalises_the_actor_and_updates_it_every_step():
+    cfg = TrainConfig(algo="crossq").agent_config.replace(hidden=(8,))
+    agent = make_agent(cfg, 4, 2)
+    state = agent.init(jax.random.PRNGKey(0))
+    assert state.actor_stats, "the actor has no batch statistics"
+    new, metrics = jax.jit(agent.update)(state, _batch(), jax.random.PRNGKey(1), 1)  # index 1: not a multiple of 3
+    assert np.isfinite(float(metrics["actor_loss"]))  # policy delay 1: the actor moved
+    moved = jax.tree.leaves(jax.tree.map(lambda a, b: bool(jnp.any(a != b)), new.actor_stats, state.actor_stats))
+    assert any(moved), "the actor's batch statistics did not update"
+    text = TrainConfig(algo="crossq", protocol="thesis-text").agent_config.replace(hidden=(8,))
+    text_agent = make_agent(text, 4, 2)
+    _, text_metrics = jax.jit(text_agent.update)(text_agent.init(jax.random.PRNGKey(0)), _batch(),
+                                                 jax.random.PRNGKey(1), 1)
+    assert np.isnan(float(text_metrics["actor_loss"]))  # policy delay 3: not this update
+
+
+def test_target_entropy_is_minus_6_under_the_code():
+    cfg = TrainConfig(algo="crossq").agent_config.replace(hidden=(8,))
+    from mjx_badger.agents.losses import make_losses
+    from mjx_badger.agents.networks import Actor, Critic
+
+    losses = make_losses(Actor(2), Critic(), cfg, 2)
+    # J = -mean(log alpha (log pi + H)): with log alpha = 1 and log pi = 0 it is -H = 6.
+    assert float(losses.alpha(jnp.float32(1.0), jnp.zeros(3))) == pytest.approx(6.0)
+    text = TrainConfig(algo="crossq", protocol="thesis-text").agent_config
+    assert float(make_losses(Actor(2), Critic(), text, 2).alpha(jnp.float32(1.0), jnp.zeros(3))) == pytest.approx(1.0)
+
+
+def test_renorm_warmup_is_the_codes_1000_updates():
+    assert TrainConfig(algo="crossq").agent_config.renorm_warmup_steps == 1000
+    assert TrainConfig(algo="crossq", protocol="thesis-text").agent_config.renorm_warmup_steps == 100_000
+
+
+def test_many_update_algorithms_move_the_actor_once_per_step_under_the_code():
+    cfg = TrainConfig(algo="droq").agent_config.replace(hidden=(8,), updates_per_step=4)
+    agent = make_agent(cfg, 4, 2)
+    state = agent.init(jax.random.PRNGKey(0))
+    update = jax.jit(agent.update)
+    moved = []
+    for index in range(8):
+        state, metrics = update(state, _batch(), jax.random.PRNGKey(index), index)
+        moved.append(bool(np.isfinite(float(metrics["actor_loss"]))))
+    assert moved == [False, False, False, True] * 2  # the last of each step's critic updates
+    text = TrainConfig(algo="droq", protocol="thesis-text").agent_config
+    assert text.actor_updates_per_step is None
