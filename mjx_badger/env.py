@@ -156,6 +156,8 @@ class HB40Env(Env):
             "task_state": task_state,
             "falls": jnp.int32(0),
             "would_falls": jnp.int32(0),
+            "blowups": jnp.int32(0),
+            "blew_up": jnp.bool_(False),
             "fallen": jnp.bool_(False),
             "terminated": jnp.bool_(False),
             "truncated": jnp.bool_(False),
@@ -193,12 +195,17 @@ class HB40Env(Env):
         command = info["command"]
         obs, motion = self._observe(data, action_state, command, info["prev_gyro"], torque)
         reward, contributions = self.task.reward(motion, command)
+        # A physics blow-up (non-finite state) ends the episode under any protocol, and its NaNs must
+        # not reach the replay buffer: a NaN next observation poisons the critic's target even at
+        # discount 0. It is stored as zeros and counted in `blowups`.
+        finite = jnp.all(jnp.isfinite(obs)) & jnp.isfinite(reward)
+        obs, reward = jnp.where(finite, obs, 0.0), jnp.where(finite, reward, 0.0)
         task_state = self.task.update(info["task_state"], command, motion)
 
         power_steps = jnp.where(jnp.sum(jnp.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W,
                                 info["power_steps"] + 1, 0)
-        fallen = self._fall_rule(data, motion, power_steps) | ~jnp.all(jnp.isfinite(obs))
-        terminated = fallen if self.terminates else jnp.bool_(False)
+        fallen = self._fall_rule(data, motion, power_steps) | ~finite
+        terminated = (fallen if self.terminates else jnp.bool_(False)) | ~finite
         step = info["step"] + 1
         truncated = (step >= self.episode_steps) & ~terminated
         done = terminated | truncated
@@ -224,10 +231,12 @@ class HB40Env(Env):
             power_steps=power_steps,
             step=step,
             task_state=task_state,
-            falls=info["falls"] + terminated.astype(jnp.int32),
+            falls=info["falls"] + (terminated & finite).astype(jnp.int32),
             # A would-be fall is counted when the rule starts firing, not for every step it keeps firing.
             would_falls=info["would_falls"] + (fallen & ~info["fallen"]).astype(jnp.int32),
             fallen=fallen & ~done,
+            blowups=info["blowups"] + (~finite).astype(jnp.int32),
+            blew_up=~finite,
             terminated=terminated,
             truncated=truncated,
             next_obs=obs,

@@ -91,6 +91,8 @@ def progress_figures(metrics: dict) -> dict:
     if "curriculum/learned_bins" in metrics:
         shown["bins"] = np.mean(metrics["curriculum/learned_bins"])
     shown["falls"] = np.mean(metrics["train/falls"])
+    if np.any(np.asarray(metrics.get("train/blowups", 0)) > 0):
+        shown["blowups"] = np.mean(metrics["train/blowups"])
     return {k: f"{v:.2f}" for k, v in shown.items()}
 
 

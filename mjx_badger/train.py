@@ -159,7 +159,8 @@ def make_train(config: TrainConfig) -> Trainer:
                                                   carry.agent_state, buffer, learn_key, step)
         episode_return = carry.episode_return + env_state.reward
         done = env_state.done > 0
-        counted = info["terminated"] & ((step >= config.warmup_steps) | (not protocol.falls_after_warmup))
+        counted = (info["terminated"] & ~info["blew_up"]
+                   & ((step >= config.warmup_steps) | (not protocol.falls_after_warmup)))
         falls = carry.falls + counted.astype(jnp.int32)
         step_metrics = dict(
             env_state.metrics,
@@ -169,6 +170,7 @@ def make_train(config: TrainConfig) -> Trainer:
             falls=falls.astype(jnp.float32),
             falls_total=info["falls"].astype(jnp.float32),
             would_falls=info["would_falls"].astype(jnp.float32),
+            blowups=info["blowups"].astype(jnp.float32),
             **learn_metrics,
         )
         carry = carry.replace(env_state=env_state, agent_state=agent_state, buffer=buffer, key=key,
@@ -248,6 +250,7 @@ def make_train(config: TrainConfig) -> Trainer:
         metrics["train/falls"] = steps["falls"][-1]
         metrics["train/falls_total"] = steps["falls_total"][-1]
         metrics["train/would_falls"] = steps["would_falls"][-1]
+        metrics["train/blowups"] = steps["blowups"][-1]
         metrics["train/updates"] = jnp.sum(steps["updates"])
         metrics.update(evaluate(carry.agent_state, carry.eval_key))
         return carry, metrics

@@ -238,3 +238,13 @@ def test_many_update_algorithms_move_the_actor_once_per_step_under_the_code():
     assert moved == [False, False, False, True] * 2  # the last of each step's critic updates
     text = TrainConfig(algo="droq", protocol="thesis-text").agent_config
     assert text.actor_updates_per_step is None
+
+
+def test_a_physics_blowup_ends_the_episode_without_nans_and_is_not_a_fall(env, env_fns):
+    reset, step = env_fns
+    state = reset(jax.random.PRNGKey(0))
+    broken = state.pipeline_state.replace(qvel=state.pipeline_state.qvel.at[0].set(jnp.nan))
+    state = step(state.replace(pipeline_state=broken), jnp.zeros(12))
+    assert bool(state.info["terminated"]) and int(state.info["blowups"]) == 1 and int(state.info["falls"]) == 0
+    assert np.isfinite(np.asarray(state.info["next_obs"])).all() and np.isfinite(float(state.reward))
+    assert np.isfinite(np.asarray(state.obs)).all() and int(state.info["step"]) == 0  # a fresh episode
