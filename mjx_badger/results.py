@@ -2,13 +2,18 @@
 
 Schema `mjx_badger.results/1`:
     schema        "mjx_badger.results/1"
-    config        the TrainConfig, with its resolved env and agent settings
+    config        the TrainConfig, with its resolved env and agent settings: config.protocol is
+                  "thesis-code" or "thesis-text", config.protocol_changes the one-factor swaps
+                  as [field, value] pairs, config.env.protocol every protocol field
     seeds         list of int, one per vmapped run
     complete      false until the last chunk is written (an interrupted run stays readable)
     steps         environment steps per seed at the end of each chunk, list (chunks,)
     sim_minutes   the same in simulated minutes (steps / control frequency / 60)
     metrics       name -> list (chunks,) of list (seeds,); null where undefined
-                  (e.g. train/episode_return in a chunk where no episode ended)
+                  (e.g. train/episode_return in a chunk where no episode ended); falls are
+                  cumulative: train/falls as the protocol counts them, train/falls_total every
+                  termination, train/would_falls the times the termination rule started firing
+                  (CPG under thesis-code never terminates), train/blowups non-finite physics states
     gait          after the last chunk: a deterministic run under the task's first evaluation
                   command, its second half at the physics rate: physics_dt, seconds, command,
                   contacts (seeds, T, 4) of 0/1 per foot FL, FR, RL, RR, forward_velocity (seeds, T)
