@@ -129,6 +129,11 @@ def build_parser() -> argparse.ArgumentParser:
     claims.add_argument("--results-dir", type=Path, default=Path("results"))
     claims.add_argument("--json", type=Path, default=None, help="also write the scoreboard here")
 
+    attribute = commands.add_parser("attribute", help="one-factor protocol swaps beside their baselines (2 seeds x 10k)")
+    attribute.add_argument("--results-dir", type=Path, default=Path("results"))
+    attribute.add_argument("--only", nargs="+", default=None, metavar="SWAP",
+                           help="run only these swaps (names as `list` prints them)")
+
     commands.add_parser("list", help="list approaches, algorithms, tasks, experiments, profiles and protocols")
     return parser
 
@@ -140,7 +145,7 @@ def main(argv=None) -> int:
     if args.command == "list":
         for title, names in (("approaches", APPROACHES), ("algorithms", ALGORITHMS), ("tasks", TASKS),
                              ("experiments", EXPERIMENTS), ("profiles", PROFILES), ("protocols", PROTOCOLS),
-                             ("protocol fields", FIELDS)):
+                             ("protocol fields", FIELDS), ("attribution swaps", _swap_names())):
             print(f"{title}: {', '.join(names)}")
         return 0
     if args.command == "train":
@@ -169,6 +174,14 @@ def main(argv=None) -> int:
         return realtime_command(args, config)
     if args.command == "claims":
         return claims_command(args)
+    if args.command == "attribute":
+        from mjx_badger.attribution import SWAPS_BY_NAME
+
+        unknown = set(args.only or ()) - set(SWAPS_BY_NAME)
+        if unknown:
+            parser.error(f"unknown swap(s) {sorted(unknown)}; choose from: {', '.join(SWAPS_BY_NAME)}")
+        writable_dir(parser, args.results_dir, "results folder")
+        return attribute_command(args)
     if args.command == "reproduce":
         writable_dir(parser, args.results_dir, "results folder")
         writable_dir(parser, args.figures_dir, "figures folder")
@@ -294,4 +307,25 @@ def claims_command(args) -> int:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
                                         indent=1))
+    return 0
+
+
+def _swap_names():
+    from mjx_badger.attribution import SWAPS_BY_NAME
+
+    return [f"'{name}'" for name in SWAPS_BY_NAME]
+
+
+def attribute_command(args) -> int:
+    from mjx_badger import attribution, results, runner
+
+    todo = [(swap, run, config, path) for swap, run, config, path in attribution.planned(args.results_dir)
+            if args.only is None or swap.name in args.only]
+    seeds = list(range(attribution.PROFILE.seeds))
+    for swap, run, config, path in todo:
+        if path.exists() and results.read(path).get("complete"):
+            print(f"skip {path}: complete")
+            continue
+        runner.run(config, seeds, path, progress=sys.stderr.isatty() or os.environ.get("CI") is None)
+    print(attribution.table(args.results_dir))
     return 0

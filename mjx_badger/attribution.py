@@ -1,0 +1,133 @@
+"""One-factor swaps: which departure of the thesis text from its code moves which claim.
+
+A `Swap` sets one protocol field (or one departure made of two fields, such as the JT gains
+and rate) to the other protocol's value, and names the runs that show its effect and the
+claims it may move. Each swap is run beside its unswapped baseline at the attribution size
+(2 seeds x 10k steps, smaller than `quick`; the README says so), under
+`results/attribution/<base protocol>/<swap or baseline>/<experiment>/`.
+"""
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from mjx_badger import plots, protocols, results
+from mjx_badger.experiments import EXPERIMENTS, Profile, Run, result_name
+from mjx_badger.train import TrainConfig
+
+PROFILE = Profile(2, 10_000, 1_000, 1_000, 400, "attribution runs: 2 seeds x 10k steps")
+
+
+@dataclasses.dataclass(frozen=True)
+class Swap:
+    name: str
+    base: str
+    """The protocol the swap starts from."""
+    fields: tuple
+    """Protocol fields set to the other protocol's value."""
+    experiment: str
+    approaches: tuple
+    measure: str
+    """The summary figure compared (plots.summarize): falls_mean, steps_to_target, final_eval_velocity_max."""
+    claims: tuple
+    """Ids of the claims (claims.py) this departure may move."""
+
+    @property
+    def changes(self) -> tuple:
+        return tuple((field, protocols.other_value(field, self.base)) for field in self.fields)
+
+    def runs(self) -> tuple:
+        return tuple(Run(approach, "crossq", EXPERIMENTS[self.experiment].runs[0].task) for approach in self.approaches)
+
+
+SWAPS = (
+    Swap("termination rule", "thesis-code", ("termination",), "forward", ("jt-nf", "jt-oef", "jt-lpf"),
+         "falls_mean", ("jt-falls",)),
+    Swap("CPG terminates", "thesis-code", ("cpg_terminates",), "forward", ("cpg-d", "cpg-vf", "cpg-rt"),
+         "falls_mean", ("cpg-never-falls",)),
+    Swap("low-pass filter", "thesis-code", ("lowpass",), "forward", ("jt-lpf",), "steps_to_target",
+         ("jt-convergence", "jt-gait-order")),
+    Swap("JT gains and rate", "thesis-code", ("jt_pd_gains", "jt_control_hz"), "forward", ("jt-nf", "jt-oef"),
+         "steps_to_target", ("jt-convergence", "jt-falls")),
+    Swap("action delay", "thesis-code", ("action_delay",), "forward", ("jt-nf",), "falls_mean",
+         ("jt-falls", "jt-convergence")),
+    Swap("CPG action on joint angles", "thesis-code", ("cpg_action",), "forward-max", ("cpg-d", "cpg-vf"),
+         "final_eval_velocity_max", ("cpg-vf-max",)),
+    Swap("CrossQ details", "thesis-code",
+         ("crossq_policy_delay", "crossq_renorm_warmup", "crossq_actor_renorm", "target_entropy"), "forward",
+         ("jt-nf",), "steps_to_target", ("jt-convergence",)),
+)
+SWAPS_BY_NAME = {swap.name: swap for swap in SWAPS}
+
+
+def folder(results_dir: Path, swap: Swap | None, base: str) -> Path:
+    """Where a swap's runs (or, for None, the baseline's) live."""
+    label = "baseline" if swap is None else swap.name.replace(" ", "-")
+    return Path(results_dir) / "attribution" / base / label
+
+
+def train_config(swap: Swap, run: Run, baseline: bool = False) -> TrainConfig:
+    return TrainConfig(approach=run.approach, algo=run.algo, task=run.task, total_steps=PROFILE.steps,
+                       chunk_steps=PROFILE.chunk_steps, warmup_steps=PROFILE.warmup_steps,
+                       eval_steps=PROFILE.eval_steps, protocol=swap.base,
+                       protocol_changes=() if baseline else swap.changes)
+
+
+def planned(results_dir: Path):
+    """(swap, run, config, path) of every attribution run, baselines included (shared between swaps)."""
+    seen = set()
+    for swap in SWAPS:
+        for run in swap.runs():
+            for baseline in (True, False):
+                where = folder(results_dir, None if baseline else swap, swap.base)
+                path = where / swap.experiment / result_name(run)
+                if path not in seen:
+                    seen.add(path)
+                    yield swap, run, train_config(swap, run, baseline), path
+
+
+def _figure(path: Path, swap: Swap):
+    if not path.exists():
+        return None
+    value = plots.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[swap.measure]
+    return value
+
+
+def _words(value, measure: str) -> str:
+    if value is None:
+        return "never" if measure == "steps_to_target" else "-"
+    if measure == "steps_to_target":
+        return f"{value / 1000:.0f}k steps"
+    if measure == "falls_mean":
+        return f"{value:.1f} falls"
+    return f"{value:.2f} m/s"
+
+
+def table(results_dir: Path) -> str:
+    """The README's 'departure -> claims it moves' table from the attribution results that exist."""
+    lines = ["| departure (fields set to the other protocol's value) | run | thesis-code baseline | swapped "
+             "| claims it can move |", "|---|---|---|---|---|"]
+    for swap in SWAPS:
+        for run in swap.runs():
+            base = _figure(folder(results_dir, None, swap.base) / swap.experiment / result_name(run), swap)
+            swapped_path = folder(results_dir, swap, swap.base) / swap.experiment / result_name(run)
+            swapped = _figure(swapped_path, swap)
+            if not swapped_path.exists():
+                continue
+            changes = ", ".join(f"{field}={value!r}" for field, value in swap.changes)
+            lines.append(f"| {swap.name} ({changes}) | {swap.experiment} {run.approach} "
+                         f"| {_words(base, swap.measure)} | {_words(swapped, swap.measure)} | {', '.join(swap.claims)} |")
+    return "\n".join(lines) + "\n"
+
+
+def falls_counting(results_dir: Path, protocol: str = "thesis-code") -> dict:
+    """Falls as counted (after warm-up) and every termination, per forward run: the counting rule needs no rerun."""
+    out = {}
+    for path in sorted((Path(results_dir) / "quick" / protocol / "forward").glob("*.json")):
+        document = results.read(path)
+        if "train/falls_total" in document["metrics"]:
+            out[document["config"]["approach"]] = (
+                float(np.mean(plots.series(document, "train/falls")[-1])),
+                float(np.mean(plots.series(document, "train/falls_total")[-1])))
+    return out

@@ -1,0 +1,34 @@
+"""One-factor swaps: each sets real protocol fields to the other protocol's values, beside a shared baseline."""
+
+from mjx_badger import attribution, claims, protocols
+from mjx_badger.cli import main
+
+
+def test_every_swap_changes_fields_to_the_other_protocols_values_and_names_real_claims():
+    for swap in attribution.SWAPS:
+        assert swap.changes, swap.name
+        base = protocols.PROTOCOLS[swap.base]
+        for field, value in swap.changes:
+            assert getattr(base, field) != value, (swap.name, field)
+        assert set(swap.claims) <= set(claims.CLAIMS_BY_ID), swap.name
+
+
+def test_planned_runs_share_baselines_and_are_small(tmp_path):
+    planned = list(attribution.planned(tmp_path))
+    paths = [path for *_, path in planned]
+    assert len(paths) == len(set(paths))
+    baselines = [config for _, _, config, path in planned if "baseline" in path.parts]
+    assert baselines and all(config.protocol_changes == () for config in baselines)
+    assert all(config.total_steps == 10_000 for *_, config, _ in planned)
+    swapped = [config for _, _, config, path in planned if "baseline" not in path.parts]
+    assert all(config.protocol_changes for config in swapped)
+    for config in swapped:
+        config.validate()  # the swapped protocol is a valid one
+
+
+def test_attribute_refuses_unknown_swaps(capsys):
+    import pytest
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["attribute", "--only", "everything"])
+    assert exit_info.value.code == 2 and "termination rule" in capsys.readouterr().err
