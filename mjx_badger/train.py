@@ -237,11 +237,12 @@ def make_train(config: TrainConfig) -> Trainer:
         """`chunk_steps` environment steps with learning, then one evaluation; metrics are per seed."""
         carry, steps = jax.lax.scan(env_step, carry, start_step + jnp.arange(config.chunk_steps))
         episodes = jnp.sum(steps["episode_end"])
-        metrics = {f"train/{k}": jnp.mean(steps[k]) for k in ("forward_velocity", "lateral_velocity", "yaw_rate",
-                                                             "height", "reward", "desired_velocity",
-                                                             "command_lateral_velocity", "desired_error")}
+        # nanmean: the step of a physics blow-up (train/blowups) has no motion to average.
+        metrics = {f"train/{k}": jnp.nanmean(steps[k]) for k in ("forward_velocity", "lateral_velocity", "yaw_rate",
+                                                                "height", "reward", "desired_velocity",
+                                                                "command_lateral_velocity", "desired_error")}
         metrics.update({k: steps[k][-1] for k in steps if k.startswith("curriculum/")})
-        metrics.update({k: jnp.mean(v) for k, v in steps.items() if k.startswith("reward/")})
+        metrics.update({k: jnp.nanmean(v) for k, v in steps.items() if k.startswith("reward/")})
         metrics.update({f"train/{k}": jnp.nanmean(steps[k]) for k in ("critic_loss", "q_mean", "actor_loss",
                                                                      "entropy", "alpha")})
         metrics["train/episode_return"] = jnp.where(episodes > 0, jnp.sum(steps["finished_return"]) / episodes,
