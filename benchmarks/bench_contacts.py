@@ -11,7 +11,6 @@ import dataclasses
 import io
 import json
 import subprocess
-import time
 from pathlib import Path
 
 import jax
@@ -19,6 +18,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
+from bench_spine import timed  # the script's own folder is on sys.path
 from mjx_badger import results, robot
 from mjx_badger.env import HB40Env
 
@@ -28,17 +28,6 @@ with contextlib.redirect_stdout(io.StringIO()):
 OUT = Path(__file__).parent / "results" / "bench_contacts.json"
 OLD_MODEL_COMMIT = "2b26d22"
 STEPS = 200
-
-
-def timed(fn, *args, repeats=3):
-    """Median wall time of fn(*args) after one warm call (which compiles)."""
-    jax.block_until_ready(fn(*args))
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        jax.block_until_ready(fn(*args))
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def old_model() -> mujoco.MjModel:
@@ -93,16 +82,15 @@ def env_steps_per_s(approach: str, batch: int) -> float:
 
 def main():
     rows = []
-    old = old_model()
-    variants = [("old model: 4 foot pairs, 4 iterations", old, np.asarray(old.key_qpos[0][7:]) if old.nkey else None)]
+    # The old model's nominal pose had the hip mirrored per side and one thigh/knee convention for all legs.
+    old_nominal = np.concatenate([[0.1 * side, 0.6, -1.2] for side in (1, -1, 1, -1)])
+    variants = [("old model: 4 foot pairs, 4 iterations", old_model(), old_nominal)]
     for iterations in (4, 10, 50):
         spec = dataclasses.replace(robot.HB40, solver_iterations=iterations, solver_ls_iterations=min(iterations, 10))
-        variants.append((f"new model: 4 foot pairs, {iterations} iterations", feet_only(spec), None))
-        variants.append((f"new model: 13 floor pairs, {iterations} iterations", robot.load_model(spec), None))
+        variants.append((f"new model: 4 foot pairs, {iterations} iterations", feet_only(spec), robot.nominal_pose()))
+        variants.append((f"new model: 13 floor pairs, {iterations} iterations", robot.load_model(spec),
+                         robot.nominal_pose()))
     for name, model, nominal in variants:
-        nominal = robot.nominal_pose() if nominal is None else nominal
-        if "old" in name:
-            nominal = np.concatenate([[0.1 * s, 0.6, -1.2] for s in (1, -1, 1, -1)])
         row = {"variant": name, "contacts": int(model.npair)}
         for batch in (1, 16):
             row[f"physics_steps_per_s_batch{batch}"] = round(physics_steps_per_s(model, batch, nominal), 1)

@@ -10,8 +10,6 @@ claims it may move. Each swap is run beside its unswapped baseline at the attrib
 import dataclasses
 from pathlib import Path
 
-import numpy as np
-
 from mjx_badger import plots, protocols, results
 from mjx_badger.experiments import EXPERIMENTS, Profile, Run, result_name
 from mjx_badger.train import TrainConfig
@@ -90,8 +88,7 @@ def planned(results_dir: Path):
 def _figure(path: Path, swap: Swap):
     if not path.exists():
         return None
-    value = plots.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[swap.measure]
-    return value
+    return plots.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[swap.measure]
 
 
 def _words(value, measure: str) -> str:
@@ -120,14 +117,3 @@ def table(results_dir: Path) -> str:
                          f"| {_words(base, swap.measure)} | {_words(swapped, swap.measure)} | {', '.join(swap.claims)} |")
     return "\n".join(lines) + "\n"
 
-
-def falls_counting(results_dir: Path, protocol: str = "thesis-code") -> dict:
-    """Falls as counted (after warm-up) and every termination, per forward run: the counting rule needs no rerun."""
-    out = {}
-    for path in sorted((Path(results_dir) / "quick" / protocol / "forward").glob("*.json")):
-        document = results.read(path)
-        if "train/falls_total" in document["metrics"]:
-            out[document["config"]["approach"]] = (
-                float(np.mean(plots.series(document, "train/falls")[-1])),
-                float(np.mean(plots.series(document, "train/falls_total")[-1])))
-    return out

@@ -17,8 +17,7 @@ from mjx_badger.experiments import EXPERIMENTS
 
 JT = ("jt-nf", "jt-oef", "jt-lpf")
 CPG = ("cpg-d", "cpg-vf", "cpg-rt")
-NAMES = {"jt-nf": "JT-NF", "jt-lpf": "JT-LPF", "jt-oef": "JT-OEF", "cpg-d": "CPG-D", "cpg-vf": "CPG-VF",
-         "cpg-rt": "CPG-RT", "sac": "SAC", "sac-utd20": "SAC-UTD20", "droq": "DroQ", "crossq": "CrossQ"}
+NAMES = plots.NAMES
 
 
 class Missing(Exception):
