@@ -25,9 +25,10 @@ from mjx_badger.experiments import APPROACHES
 OUT = Path(__file__).parent / "results" / "warmup_falls.json"
 
 
-def falls_per_run(approach: str, protocol: protocols.Protocol, steps: int, seed: int) -> int:
+def falls_per_run(approach: str, protocol: protocols.Protocol, steps: int, seed: int,
+                  spec: robot.RobotSpec = robot.HB40) -> int:
     """Falls (or, for a CPG that never terminates, would-be falls) in `steps` random control steps."""
-    env = HB40Env(approach, "forward", EnvConfig(protocol=protocol))
+    env = HB40Env(approach, "forward", EnvConfig(protocol=protocol), spec)
     model = env.mj_model
     data = mujoco.MjData(model)
     act = jax.jit(env.action_space.step)
@@ -36,7 +37,7 @@ def falls_per_run(approach: str, protocol: protocols.Protocol, steps: int, seed:
 
     def reset():
         mujoco.mj_resetData(model, data)
-        data.qpos[:] = robot.standing_qpos(model)
+        data.qpos[:] = robot.standing_qpos(model, spec)
         data.ctrl[:] = env.action_space.rest_ctrl()
         mujoco.mj_forward(model, data)
         return env.action_space.init(), np.asarray(env.action_space.rest_ctrl())
@@ -48,7 +49,7 @@ def falls_per_run(approach: str, protocol: protocols.Protocol, steps: int, seed:
         target = np.asarray(target)
         delay = 0
         if protocol.action_delay:
-            delay = int(np.clip(round(abs(0.03 + 0.05 * rng.normal()) / robot.HB40.physics_dt), 0, env.substeps))
+            delay = int(np.clip(round(abs(0.03 + 0.05 * rng.normal()) / spec.physics_dt), 0, env.substeps))
         for i in range(env.substeps):
             data.ctrl[:] = previous if i < delay else target
             torque = env._kp * (data.ctrl[:12] - data.qpos[7:]) - env._kd * data.qvel[6:]
@@ -75,10 +76,13 @@ def main():
     table = {}
     for name, protocol in protocols.PROTOCOLS.items():
         for approach in APPROACHES:
-            counts = [falls_per_run(approach, protocol, args.steps, seed) for seed in range(args.seeds)]
-            table.setdefault(approach, {})[name] = counts
-            print(f"{approach:7s} {name:12s} falls per {args.steps} random steps: {counts} "
-                  f"(mean {np.mean(counts):.1f})", flush=True)
+            # The JT approaches also on this suite's first robot (the CPG's kinematics are the HB40's).
+            for spec in (robot.HB40,) if approach.startswith("cpg") else robot.ROBOTS.values():
+                label = name if spec == robot.HB40 else f"{name} on {spec.name}"
+                counts = [falls_per_run(approach, protocol, args.steps, seed, spec) for seed in range(args.seeds)]
+                table.setdefault(approach, {})[label] = counts
+                print(f"{approach:7s} {label:24s} falls per {args.steps} random steps: {counts} "
+                      f"(mean {np.mean(counts):.1f})", flush=True)
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text(json.dumps({"steps": args.steps, "seeds": args.seeds, "falls": table,
                                "note": "CPG under thesis-code: would-be falls (its episodes never terminate)",

@@ -30,6 +30,8 @@ class ActionSpace(NamedTuple):
     extra_size: int = 0
     split_pd: bool = False
     """Two PD controllers per joint whose torques are averaged (ctrl has 24 targets)."""
+    spec: robot.RobotSpec = robot.HB40
+    """The robot whose nominal pose the pipeline works around."""
 
     @property
     def ctrl_size(self) -> int:
@@ -37,7 +39,7 @@ class ActionSpace(NamedTuple):
 
     def rest_ctrl(self):
         """PD targets of the standing robot, before any action."""
-        nominal = jnp.asarray(robot.nominal_pose())
+        nominal = jnp.asarray(robot.nominal_pose(self.spec))
         return jnp.concatenate([nominal, nominal]) if self.split_pd else nominal
 
 
@@ -46,10 +48,10 @@ class JTState(NamedTuple):
     target: jnp.ndarray  # (12,) the last joint targets sent
 
 
-def joint_targets(name: str, filt: filters.Filter) -> ActionSpace:
+def joint_targets(name: str, filt: filters.Filter, spec: robot.RobotSpec = robot.HB40) -> ActionSpace:
     """JT (§4.2): nominal pose + action scaled to +-[0.2, 0.4, 0.4], then filtered."""
-    nominal = jnp.asarray(robot.nominal_pose())
-    scale = jnp.asarray(robot.jt_action_scale())
+    nominal = jnp.asarray(robot.nominal_pose(spec))
+    scale = jnp.asarray(robot.jt_action_scale(spec))
 
     def step(state, action):
         # Filtering the joint targets (radians), so the One Euro beta acts on rad/s; a linear
@@ -62,7 +64,7 @@ def joint_targets(name: str, filt: filters.Filter) -> ActionSpace:
         return state.target - nominal, jnp.zeros(0)
 
     return ActionSpace(name=name, size=robot.NUM_JOINTS, init=lambda: JTState(filt.init(nominal), nominal),
-                       step=step, observe=observe, predicted_name="joint_angle")
+                       step=step, observe=observe, predicted_name="joint_angle", spec=spec)
 
 
 def jt_filter(kind: str, dt: float, protocol: Protocol) -> filters.Filter:
@@ -174,18 +176,26 @@ def is_cpg(approach: str) -> bool:
     return approach.startswith("cpg")
 
 
+def check_robot(approach: str, spec: robot.RobotSpec):
+    """Raise ValueError if `approach` cannot drive `spec`: the CPG's kinematics are the HB40's."""
+    if is_cpg(approach) and spec != robot.HB40:
+        raise ValueError(f"the CPG approaches run on the {robot.HB40.name} only, not on {spec.name}")
+
+
 APPROACHES = {
-    "jt-nf": lambda dt, p: joint_targets("jt-nf", jt_filter("none", dt, p)),
-    "jt-lpf": lambda dt, p: joint_targets("jt-lpf", jt_filter("lowpass", dt, p)),
-    "jt-oef": lambda dt, p: joint_targets("jt-oef", jt_filter("one_euro", dt, p)),
-    "cpg-d": lambda dt, p: central_pattern("cpg-d", dt, protocol=p),
-    "cpg-vf": lambda dt, p: central_pattern("cpg-vf", dt, variable_frequency=True, protocol=p),
-    "cpg-rt": lambda dt, p: central_pattern("cpg-rt", dt, residual=p.cpg_residual, protocol=p),
-    "cpg-rt-avg": lambda dt, p: central_pattern("cpg-rt-avg", dt, residual="angle-average", protocol=p),
-    "cpg-rt-sum": lambda dt, p: central_pattern("cpg-rt-sum", dt, residual="angle-sum", protocol=p),
+    "jt-nf": lambda dt, p, spec: joint_targets("jt-nf", jt_filter("none", dt, p), spec),
+    "jt-lpf": lambda dt, p, spec: joint_targets("jt-lpf", jt_filter("lowpass", dt, p), spec),
+    "jt-oef": lambda dt, p, spec: joint_targets("jt-oef", jt_filter("one_euro", dt, p), spec),
+    "cpg-d": lambda dt, p, spec: central_pattern("cpg-d", dt, protocol=p),
+    "cpg-vf": lambda dt, p, spec: central_pattern("cpg-vf", dt, variable_frequency=True, protocol=p),
+    "cpg-rt": lambda dt, p, spec: central_pattern("cpg-rt", dt, residual=p.cpg_residual, protocol=p),
+    "cpg-rt-avg": lambda dt, p, spec: central_pattern("cpg-rt-avg", dt, residual="angle-average", protocol=p),
+    "cpg-rt-sum": lambda dt, p, spec: central_pattern("cpg-rt-sum", dt, residual="angle-sum", protocol=p),
 }
 
 
-def make_action_space(approach: str, dt: float, protocol: Protocol = protocols.THESIS_CODE) -> ActionSpace:
-    """The action pipeline of `approach` at control period `dt` under `protocol`."""
-    return APPROACHES[approach](dt, protocol)
+def make_action_space(approach: str, dt: float, protocol: Protocol = protocols.THESIS_CODE,
+                      spec: robot.RobotSpec = robot.HB40) -> ActionSpace:
+    """The action pipeline of `approach` at control period `dt` under `protocol`, on the robot `spec`."""
+    check_robot(approach, spec)
+    return APPROACHES[approach](dt, protocol, spec)

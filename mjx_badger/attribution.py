@@ -30,16 +30,25 @@ class Swap:
     """The summary figure compared (plots.summarize): falls_mean, steps_to_target, final_eval_velocity_max."""
     claims: tuple
     """Ids of the claims (claims.py) this departure may move."""
+    robot: str = "hb40"
+    """The robot of the swapped runs (robot.ROBOTS); the baselines run on the HB40."""
 
     @property
     def changes(self) -> tuple:
         return tuple((field, protocols.other_value(field, self.base)) for field in self.fields)
+
+    def describe(self) -> str:
+        """The swapped settings, as `field=value, ...`."""
+        robot = () if self.robot == "hb40" else (("robot", self.robot),)
+        return ", ".join(f"{field}={value!r}" for field, value in robot + self.changes)
 
     def runs(self) -> tuple:
         return tuple(Run(approach, "crossq", EXPERIMENTS[self.experiment].runs[0].task) for approach in self.approaches)
 
 
 SWAPS = (
+    Swap("robot geometry", "thesis-code", (), "forward", ("jt-nf", "jt-oef", "jt-lpf"), "falls_mean",
+         ("jt-falls",), robot="hb40-v1"),
     Swap("termination rule", "thesis-code", ("termination",), "forward", ("jt-nf", "jt-oef", "jt-lpf"),
          "falls_mean", ("jt-falls",)),
     Swap("CPG terminates", "thesis-code", ("cpg_terminates",), "forward", ("cpg-d", "cpg-vf", "cpg-rt"),
@@ -69,7 +78,7 @@ def train_config(swap: Swap, run: Run, baseline: bool = False) -> TrainConfig:
     return TrainConfig(approach=run.approach, algo=run.algo, task=run.task, total_steps=PROFILE.steps,
                        chunk_steps=PROFILE.chunk_steps, warmup_steps=PROFILE.warmup_steps,
                        eval_steps=PROFILE.eval_steps, protocol=swap.base,
-                       protocol_changes=() if baseline else swap.changes)
+                       protocol_changes=() if baseline else swap.changes, robot="hb40" if baseline else swap.robot)
 
 
 def planned(results_dir: Path):
@@ -112,8 +121,7 @@ def table(results_dir: Path) -> str:
             swapped = _figure(swapped_path, swap)
             if not swapped_path.exists():
                 continue
-            changes = ", ".join(f"{field}={value!r}" for field, value in swap.changes)
-            lines.append(f"| {swap.name} ({changes}) | {swap.experiment} {run.approach} "
+            lines.append(f"| {swap.name} ({swap.describe()}) | {swap.experiment} {run.approach} "
                          f"| {_words(base, swap.measure)} | {_words(swapped, swap.measure)} | {', '.join(swap.claims)} |")
     return "\n".join(lines) + "\n"
 

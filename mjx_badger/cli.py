@@ -16,6 +16,7 @@ from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
 from mjx_badger.protocols import FIELDS, PROTOCOLS
+from mjx_badger.robot import ROBOTS
 from mjx_badger.tasks import TASKS
 
 # Seed-steps (one env step and one update each) per second of CrossQ with JT on the 2-core
@@ -87,6 +88,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_protocol_argument(train)
     train.add_argument("--set", dest="changes", type=protocol_change, action="append", default=[], metavar="FIELD=VALUE",
                        help="change one protocol field (repeatable), e.g. --set action_delay=False")
+    train.add_argument("--robot", choices=list(ROBOTS), default="hb40",
+                       help="hb40: the thesis code's model; hb40-v1: this suite's first (JT approaches only)")
     train.add_argument("--out", type=Path, default=Path("results"), help="folder for the results file")
     train.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -145,7 +148,7 @@ def main(argv=None) -> int:
     if args.command == "list":
         for title, names in (("approaches", APPROACHES), ("algorithms", ALGORITHMS), ("tasks", TASKS),
                              ("experiments", EXPERIMENTS), ("profiles", PROFILES), ("protocols", PROTOCOLS),
-                             ("protocol fields", FIELDS), ("attribution swaps", _swap_names())):
+                             ("protocol fields", FIELDS), ("robots", ROBOTS), ("attribution swaps", _swap_names())):
             print(f"{title}: {', '.join(names)}")
         return 0
     if args.command == "train":
@@ -153,8 +156,13 @@ def main(argv=None) -> int:
             parser.error(f"--warmup-steps ({args.warmup_steps}) must be smaller than --steps ({args.steps})")
         if args.chunk_steps > args.steps:
             parser.error(f"--chunk-steps ({args.chunk_steps}) must not exceed --steps ({args.steps})")
+        config = train_config(args)
+        try:
+            config.validate()
+        except ValueError as error:
+            parser.error(str(error))
         writable_dir(parser, args.out, "output folder")
-        return train_command(args)
+        return train_command(args, config)
     if args.command == "realtime":
         from mjx_badger.realtime.loop import RealtimeConfig
 
@@ -209,16 +217,20 @@ def realtime_command(args, config) -> int:
     return 0
 
 
-def train_command(args) -> int:
-    from mjx_badger import runner
+def train_config(args):
     from mjx_badger.train import TrainConfig
 
-    config = TrainConfig(approach=args.approach, algo=args.algo, task=args.task, total_steps=args.steps,
-                         chunk_steps=args.chunk_steps, warmup_steps=args.warmup_steps, eval_steps=args.eval_steps,
-                         protocol=args.protocol, protocol_changes=tuple(args.changes))
+    return TrainConfig(approach=args.approach, algo=args.algo, task=args.task, total_steps=args.steps,
+                       chunk_steps=args.chunk_steps, warmup_steps=args.warmup_steps, eval_steps=args.eval_steps,
+                       protocol=args.protocol, protocol_changes=tuple(args.changes), robot=args.robot)
+
+
+def train_command(args, config) -> int:
+    from mjx_badger import runner
+
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     out = args.out / f"{args.approach}_{args.algo}_{args.task}.json"
-    print(f"protocol {args.protocol}" + "".join(f", {k}={v!r}" for k, v in args.changes))
+    print(f"protocol {args.protocol}, robot {args.robot}" + "".join(f", {k}={v!r}" for k, v in args.changes))
     document = runner.run(config, seeds, out, progress=not args.quiet)
     print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
           f"compile {document['wall_clock']['compile_s']} s)")

@@ -111,7 +111,7 @@ class HB40Env(Env):
         self.episode_steps = int(round(self.protocol.episode_seconds / self.control_dt))
         self.is_cpg = actions.is_cpg(approach)
         self.terminates = self.protocol.cpg_terminates or not self.is_cpg
-        self.action_space = actions.make_action_space(approach, self.control_dt, self.protocol)
+        self.action_space = actions.make_action_space(approach, self.control_dt, self.protocol, spec)
         self.task = tasks.make_task(task, self.protocol.rewards) if isinstance(task, str) else task
         self.observation_layout = observation_layout(self.action_space, self.protocol)
         self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd)

@@ -70,8 +70,8 @@ class RobotSpec:
     """Collision capsule along the calf (plane.xml: a cylinder of radius 0.015)."""
     hip_range: float = 1.57
     thigh_range: float = 1.57
-    knee_range: float = 2.53
-    """The knee opens from 0 to this (sign per side)."""
+    knee_range: tuple = (0.0, 2.53)
+    """Left knees' range from the folded zero (right knees mirrored)."""
     joint_damping: float = 0.1
     joint_armature: float = 0.013122
     joint_frictionloss: float = 0.48
@@ -100,6 +100,28 @@ class RobotSpec:
 
 HB40 = RobotSpec()
 
+HB40_FIRST_VERSION = RobotSpec(
+    name="hb40-v1",
+    knee_outboard=0.0,
+    foot_outboard=0.0,
+    thigh_zero_behind_vertical_deg=0.0,
+    knee_zero_interior_deg=180.0,
+    knee_range=(-2.53, 0.0),
+    trunk_inertia=(0.01884, 0.03746, 0.04726),
+    hip_inertia=(0.000516, 0.0004515, 0.0004515),
+    thigh_inertia=(0.00364, 0.00364, 0.000162),
+    calf_inertia=(0.000464, 0.000464, 0.0000084),
+    nominal=(0.1, -0.6, 1.2),
+    home_height=0.36,
+)
+"""The HB40 of this suite's first version (thesis-text figures, before THESIS_CODE.md): legs in one
+plane below the hips, thigh zero pointing down and knee zero straight, the inertias of uniform
+solids, and the thesis nominal pose read with thigh 0.6 rad behind vertical and the calf 0.6 rad
+ahead of it (feet 0.33 m below the hips). Contacts and solver are the HB40's, so a swap to it
+moves geometry and inertia alone (attribution.py's 'robot geometry')."""
+
+ROBOTS = {spec.name: spec for spec in (HB40, HB40_FIRST_VERSION)}
+
 # The robot's own controller, as the on-robot loop drives it: the scripts' Kp 60 / Kd 3, and
 # the thesis's safety stop, Kp 0 / Kd 3 (§5.2).
 ROBOT_PD_GAINS = (60.0, 3.0)
@@ -123,10 +145,11 @@ def jt_action_scale(spec: RobotSpec = HB40) -> np.ndarray:
 
 def joint_limits(spec: RobotSpec = HB40) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper joint limits (4, 3)."""
+    low, high = spec.knee_range
     upper = np.stack([np.full(4, spec.hip_range), np.full(4, spec.thigh_range),
-                      np.where(LEFT_SIGN > 0, spec.knee_range, 0.0)], axis=-1)
+                      np.where(LEFT_SIGN > 0, high, -low)], axis=-1)
     lower = np.stack([np.full(4, -spec.hip_range), np.full(4, -spec.thigh_range),
-                      np.where(LEFT_SIGN > 0, 0.0, -spec.knee_range)], axis=-1)
+                      np.where(LEFT_SIGN > 0, low, -high)], axis=-1)
     return lower, upper
 
 

@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 from flax import struct
 
-from mjx_badger import actions, protocols, replay, tasks
+from mjx_badger import actions, protocols, replay, robot, tasks
 from mjx_badger.agents import ALGORITHMS, AgentConfig, AgentState, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
@@ -42,6 +42,8 @@ class TrainConfig:
     """'thesis-code' (as the released code ran it) or 'thesis-text' (as the thesis reads); protocols.py."""
     protocol_changes: tuple = ()
     """One-factor swaps: ((field, value), ...) applied to the protocol (attribution runs)."""
+    robot: str = "hb40"
+    """The robot description (robot.ROBOTS): 'hb40', the thesis code's, or 'hb40-v1', this suite's first."""
     env: EnvConfig | None = None
     """Environment settings; None means the protocol's, at its rate for this approach and algorithm."""
     agent: AgentConfig | None = None
@@ -51,10 +53,12 @@ class TrainConfig:
         """Raise ValueError naming the valid choices for any unknown name, before anything compiles."""
         for what, value, valid in (("approach", self.approach, actions.APPROACHES),
                                    ("algorithm", self.algo, ALGORITHMS), ("task", self.task, tasks.TASKS),
-                                   ("protocol", self.protocol, protocols.PROTOCOLS)):
+                                   ("protocol", self.protocol, protocols.PROTOCOLS),
+                                   ("robot", self.robot, robot.ROBOTS)):
             if value not in valid:
                 raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
         self.protocol_spec  # unknown protocol fields raise here
+        actions.check_robot(self.approach, robot.ROBOTS[self.robot])
         if self.warmup_steps >= self.total_steps:
             raise ValueError(f"warm-up ({self.warmup_steps} steps) must be shorter than the run ({self.total_steps})")
 
@@ -105,7 +109,7 @@ def make_train(config: TrainConfig) -> Trainer:
     config.validate()
     cfg = config.agent_config
     protocol = config.protocol_spec
-    env = HB40Env(config.approach, config.task, config.env_config)
+    env = HB40Env(config.approach, config.task, config.env_config, robot.ROBOTS[config.robot])
     agent = make_agent(cfg, env.observation_size, env.action_size)
     capacity = config.num_chunks * config.chunk_steps
 

@@ -54,7 +54,7 @@ def test_list_names_everything(capsys):
     assert main(["list"]) == 0
     out = capsys.readouterr().out
     assert "jt-oef" in out and "crossq" in out and "forward" in out and "quick" in out
-    assert "thesis-code, thesis-text" in out and "termination" in out
+    assert "thesis-code, thesis-text" in out and "termination" in out and "robots: hb40, hb40-v1" in out
 
 
 def test_bad_protocol_names_and_fields_exit_2(capsys):
@@ -63,6 +63,12 @@ def test_bad_protocol_names_and_fields_exit_2(capsys):
         assert "invalid choice: 'thesis-paper'" in err and "thesis-code" in err and "thesis-text" in err
     err = _fails(capsys, ["train", "--set", "no_such_field=1"])
     assert "FIELD one of" in err and "episode_seconds" in err
+
+
+def test_the_cpg_on_another_robot_exits_2(capsys):
+    assert "hb40-v1" in _fails(capsys, ["train", "--robot", "hb40-v2"])
+    err = _fails(capsys, ["train", "--robot", "hb40-v1", "--approach", "cpg-vf"])
+    assert "CPG approaches run on the hb40 only" in err
 
 
 def test_claims_without_results_prints_both_empty_scoreboards(capsys, tmp_path):

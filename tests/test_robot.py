@@ -86,6 +86,29 @@ def test_thesis_code_ik_stands_the_feet_0_30_m_below_the_hips():
     np.testing.assert_allclose(np.sign(np.asarray(angles)), np.sign(robot.nominal_pose().reshape(4, 3)))
 
 
+def test_first_version_robot_stands_its_feet_in_one_plane_0_33_m_below_the_hips():
+    """hb40-v1 (the attribution's 'robot geometry' swap): no lateral offsets, thigh 0.6 rad behind vertical."""
+    spec = robot.HB40_FIRST_VERSION
+    model = robot.load_model(spec)
+    data = mujoco.MjData(model)
+    data.qpos[:] = robot.standing_qpos(model, spec)
+    mujoco.mj_forward(model, data)
+    for i, leg in enumerate(robot.LEGS):
+        foot = data.geom(f"{leg}_foot").xpos - data.body(f"{leg}_hip").xpos
+        np.testing.assert_allclose(-foot[2], 0.33 * np.cos(0.1) - 0.0125 * np.sin(0.1), atol=1e-3)
+        np.testing.assert_allclose(robot.LEFT_SIGN[i] * foot[1], 0.0125 * np.cos(0.1) + 0.33 * np.sin(0.1), atol=1e-3)
+        assert abs(foot[0] - robot.FRONT_SIGN[i] * 0.0555) < 1e-6  # thigh back, calf forward: under the thigh joint
+    # Its knees fold from straight: left knees negative, right positive.
+    np.testing.assert_allclose(model.jnt_range[1 + 2], [-2.53, 0.0])
+    np.testing.assert_allclose(model.jnt_range[1 + 5], [0.0, 2.53])
+    np.testing.assert_allclose(model.body("trunk").inertia, [0.01884, 0.03746, 0.04726], atol=1e-6)
+    data.ctrl[:] = robot.nominal_pose(spec)
+    robot.set_pd_gains(model, 25.0, 1.0)
+    for _ in range(400):
+        mujoco.mj_step(model, data)
+    assert np.abs(data.qpos[4:6]).max() * 2 < MAX_TILT_RAD and data.qpos[2] > 0.3
+
+
 def test_settles_at_the_thesis_code_heights():
     """THESIS_CODE §1: dropped from 0.316 m the model settles at 0.262 m (Kp 60 / Kd 3), 0.244 m (Kp 25 / Kd 1)."""
     for (kp, kd), expected in (((60.0, 3.0), 0.262), ((25.0, 1.0), 0.244)):
