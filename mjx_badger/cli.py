@@ -308,12 +308,13 @@ def figures_command(args) -> int:
 
 
 def claims_command(args) -> int:
-    from mjx_badger import claims
+    from mjx_badger import claims, results
 
     names = [args.protocol] if args.protocol else list(PROTOCOLS)
     boards = {name: claims.score(args.results_dir / args.profile, name) for name in names}
     for name, board in boards.items():
         print(claims.scoreboard_text(board, args.profile, name))
+        print(f"  wall time: {results.wall_time_words(args.results_dir / args.profile / name)}")
         print()
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)

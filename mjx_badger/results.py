@@ -115,3 +115,19 @@ def read(path: Path) -> dict:
     if document.get("schema") != SCHEMA:
         raise ValueError(f"{path}: not a {SCHEMA} results file")
     return document
+
+
+def wall_time(folder: Path) -> dict:
+    """Compile and run seconds summed over the complete results files under `folder`."""
+    documents = [read(path) for path in sorted(Path(folder).glob("**/*.json"))]
+    clocks = [d["wall_clock"] for d in documents if d.get("complete")]
+    return {"runs": len(clocks), "compile_s": sum(c["compile_s"] for c in clocks),
+            "run_s": sum(c["run_s"] for c in clocks)}
+
+
+def wall_time_words(folder: Path) -> str:
+    """'N runs in H h (compile M min)', for scoreboards and the README."""
+    time = wall_time(folder)
+    hours = (time["compile_s"] + time["run_s"]) / 3600
+    runs = f"{time['runs']} run" + ("" if time["runs"] == 1 else "s")
+    return f"{runs} in {hours:.2f} h (compile {time['compile_s'] / 60:.1f} min of it)"

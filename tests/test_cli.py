@@ -75,6 +75,7 @@ def test_claims_without_results_prints_both_empty_scoreboards(capsys, tmp_path):
     assert main(["claims", "--results-dir", str(tmp_path), "--json", str(tmp_path / "board.json")]) == 0
     out = capsys.readouterr().out
     assert "thesis-code protocol, quick profile: 0 of 15 hold (0 checked)" in out
+    assert "wall time: 0 runs in 0.00 h" in out
     assert "thesis-text protocol" in out and "thesis: CrossQ ~2 min, DroQ ~7 min" in out
     assert (tmp_path / "board.json").exists()
 
