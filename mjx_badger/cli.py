@@ -131,6 +131,8 @@ def build_parser() -> argparse.ArgumentParser:
     claims.add_argument("--protocol", choices=list(PROTOCOLS), default=None, help="one protocol (default: both)")
     claims.add_argument("--results-dir", type=Path, default=Path("results"))
     claims.add_argument("--json", type=Path, default=None, help="also write the scoreboard here")
+    claims.add_argument("--markdown", type=Path, default=None,
+                        help="also write the protocols' scoreboards side by side as a Markdown table here")
 
     attribute = commands.add_parser("attribute", help="one-factor protocol swaps beside their baselines (2 seeds x 10k)")
     attribute.add_argument("--results-dir", type=Path, default=Path("results"))
@@ -271,8 +273,9 @@ def reproduce_command(args) -> int:
         print(f"wrote {path}")
     print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
     print()
-    print(claims.scoreboard_text(claims.score(args.results_dir / args.profile, args.protocol), args.profile,
-                                 args.protocol))
+    boards = {name: claims.score(args.results_dir / args.profile, name) for name in PROTOCOLS}
+    print(claims.scoreboard_text(boards[args.protocol], args.profile, args.protocol))
+    write_scoreboard_markdown(args.figures_dir / f"claims_{args.profile}.md", boards, args.results_dir / args.profile)
     return 0
 
 
@@ -316,11 +319,23 @@ def claims_command(args) -> int:
         print(claims.scoreboard_text(board, args.profile, name))
         print(f"  wall time: {results.wall_time_words(args.results_dir / args.profile / name)}")
         print()
+    if args.markdown:
+        write_scoreboard_markdown(args.markdown, boards, args.results_dir / args.profile)
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
                                         indent=1))
     return 0
+
+
+def write_scoreboard_markdown(path: Path, boards: dict, profile_folder: Path) -> None:
+    """The side-by-side scoreboard the README quotes, with each protocol's wall time under it."""
+    from mjx_badger import claims, results
+
+    times = "; ".join(f"{name}: {results.wall_time_words(profile_folder / name)}" for name in boards)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(claims.scoreboard_markdown(boards) + f"\nWall time on this machine: {times}.\n")
+    print(f"wrote {path}")
 
 
 def _swap_names():
