@@ -120,9 +120,9 @@ def read(path: Path) -> dict:
 def wall_time(folder: Path) -> dict:
     """Compile and run seconds summed over the complete results files under `folder`."""
     documents = [read(path) for path in sorted(Path(folder).glob("**/*.json"))]
-    clocks = [d["wall_clock"] for d in documents if d.get("complete")]
-    return {"runs": len(clocks), "compile_s": sum(c["compile_s"] for c in clocks),
-            "run_s": sum(c["run_s"] for c in clocks)}
+    clocks = [d.get("wall_clock", {}) for d in documents if d.get("complete")]
+    return {"runs": len(clocks), "compile_s": sum(c.get("compile_s", 0.0) for c in clocks),
+            "run_s": sum(c.get("run_s", 0.0) for c in clocks)}
 
 
 def wall_time_words(folder: Path) -> str:
