@@ -266,7 +266,7 @@ def scoreboard_markdown(boards: dict) -> str:
              "|---|---|" + "---|" * len(names)]
     for row in zip(*boards.values()):
         claim = row[0].claim
-        cells = [f"{ {True: '**holds**', False: 'fails', None: '-'}[v.holds]}: {v.ours}" for v in row]
+        cells = ["not run yet" if v.holds is None else f"{'**holds**' if v.holds else 'fails'}: {v.ours}" for v in row]
         lines.append(f"| {claim.finding} ({claim.figure}) | {claim.thesis} | " + " | ".join(cells) + " |")
     totals = [f"{sum(v.holds is True for v in board)} of {len(board)}" for board in boards.values()]
     lines.append("| **claims that hold** | | " + " | ".join(totals) + " |")
