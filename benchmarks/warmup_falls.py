@@ -18,7 +18,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from mjx_badger import protocols, results, robot, tasks
+from mjx_badger import actions, protocols, results, robot, tasks
 from mjx_badger.env import EnvConfig, HB40Env, roll_pitch
 from mjx_badger.experiments import APPROACHES
 
@@ -77,7 +77,7 @@ def main():
     for name, protocol in protocols.PROTOCOLS.items():
         for approach in APPROACHES:
             # The JT approaches also on this suite's first robot (the CPG's kinematics are the HB40's).
-            for spec in (robot.HB40,) if approach.startswith("cpg") else robot.ROBOTS.values():
+            for spec in (robot.HB40,) if actions.is_cpg(approach) else robot.ROBOTS.values():
                 label = name if spec == robot.HB40 else f"{name} on {spec.name}"
                 counts = [falls_per_run(approach, protocol, args.steps, seed, spec) for seed in range(args.seeds)]
                 table.setdefault(approach, {})[label] = counts
