@@ -112,7 +112,9 @@ class HB40Env(Env):
         self.is_cpg = actions.is_cpg(approach)
         self.terminates = self.protocol.cpg_terminates or not self.is_cpg
         self.action_space = actions.make_action_space(approach, self.control_dt, self.protocol, spec)
-        self.task = tasks.make_task(task, self.protocol.rewards) if isinstance(task, str) else task
+        if isinstance(task, str):
+            task = tasks.make_task(task, self.protocol.rewards, self.protocol.curriculum)
+        self.task = task
         self.observation_layout = observation_layout(self.action_space, self.protocol)
         self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd)
         robot.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg))

@@ -60,6 +60,10 @@ class Protocol:
     rewards: str
     """Code: 'thesis-code' forms: track_x with |yaw|, max_x unclipped, track_xy with 0.5 |yaw error|
     and no energy term (§5). Text: 'thesis-text', Tables 4.5 and 4.6 as DESIGN.md reads them."""
+    curriculum: str
+    """PDEC rules (`curriculum.RULES`). Code: 'thesis-code', the released curriculum.py: the halves grow
+    until they meet, 50/50 halves until each has a bin, 0.25 m/s until complete, learned-region
+    speeds U(0.1, cap) or 0, a rolling 400-step mean (§7). Text: 'thesis-text', §4.5.1 as we read it."""
     truncation_bootstraps_from: str
     """Code: 'next-episode', the replay's next state at a time-out is the next episode's first
     observation (Q/replay_buffer.py; a bug, reproduced). Text: 'final-observation'."""
@@ -122,6 +126,7 @@ THESIS_CODE = Protocol(
     cpg_heights_before_advance=True,
     observation="thesis-code",
     rewards="thesis-code",
+    curriculum="thesis-code",
     truncation_bootstraps_from="next-episode",
     crossq_policy_delay=1,
     crossq_renorm_warmup=1000,
@@ -149,6 +154,7 @@ THESIS_TEXT = Protocol(
     cpg_heights_before_advance=False,
     observation="thesis-text",
     rewards="thesis-text",
+    curriculum="thesis-text",
     truncation_bootstraps_from="final-observation",
     crossq_policy_delay=3,
     crossq_renorm_warmup=100_000,

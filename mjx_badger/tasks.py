@@ -144,28 +144,32 @@ def omni_random(speed: float = TARGET_VELOCITY, rotated: bool = False, form: str
                 reward=omni_reward(weights, rotated, form), weights=weights, eval_commands=omni_eval_commands(speed))
 
 
-def omni_pdec(speed: float = TARGET_VELOCITY, form: str = "thesis-text") -> Task:
-    """Omnidirectional locomotion under the Progressive Directional Expansion Curriculum (§4.5.1)."""
+def omni_pdec(speed: float = TARGET_VELOCITY, form: str = "thesis-text", rules: str | None = None) -> Task:
+    """Omnidirectional locomotion under the Progressive Directional Expansion Curriculum (§4.5.1).
+
+    `rules` names the curriculum's rule set (`curriculum.RULES`); by default the reward form's.
+    """
     weights = dict(OMNI_WEIGHTS_CODE if form == "thesis-code" else OMNI_WEIGHTS)
+    chosen = curriculum.RULES[rules or form]
 
     def update(state, cmd, motion: Motion):
-        return curriculum.record(state, cmd, motion.linear_velocity[:2], motion.angular_velocity[2])
+        return curriculum.record(state, cmd, motion.linear_velocity[:2], motion.angular_velocity[2], chosen)
 
-    return Task(name="omni-pdec", command=lambda state, key: curriculum.sample(state, key, speed),
+    return Task(name="omni-pdec", command=lambda state, key: curriculum.sample(state, key, speed, chosen),
                 reward=omni_reward(weights, rotated=False, form=form), weights=weights,
                 eval_commands=omni_eval_commands(speed), init=curriculum.init, update=update,
                 progress=curriculum.progress)
 
 
 TASKS = {
-    "forward": lambda form: forward(form=form),
-    "forward-max": lambda form: forward_max(form=form),
-    "omni-random": lambda form: omni_random(form=form),
-    "omni-random-rotated": lambda form: omni_random(rotated=True, form=form),
-    "omni-pdec": lambda form: omni_pdec(form=form),
+    "forward": lambda form, rules: forward(form=form),
+    "forward-max": lambda form, rules: forward_max(form=form),
+    "omni-random": lambda form, rules: omni_random(form=form),
+    "omni-random-rotated": lambda form, rules: omni_random(rotated=True, form=form),
+    "omni-pdec": lambda form, rules: omni_pdec(form=form, rules=rules),
 }
 
 
-def make_task(name: str, form: str = "thesis-text") -> Task:
-    """The task called `name` with the reward forms of a protocol ('thesis-text' or 'thesis-code')."""
-    return TASKS[name](form)
+def make_task(name: str, form: str = "thesis-text", curriculum_rules: str | None = None) -> Task:
+    """The task `name` with a protocol's reward forms and curriculum rules ('thesis-text' or 'thesis-code')."""
+    return TASKS[name](form, curriculum_rules)

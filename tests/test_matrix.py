@@ -85,17 +85,17 @@ def test_cpg_observation_carries_the_action_and_swing_heights_under_the_code():
 
 
 def test_curricula_live_in_the_env_state_per_seed_and_survive_resets():
-    """Seed 0 starts with three learned bins, seed 1 with none; 100 steps cross two resets each."""
+    """Seed 0 starts with two bins learned left and one right, seed 1 with none; 100 steps cross two resets each."""
     env, states, _ = rollout("cpg-d", "omni-pdec")
     task_state = states.info["task_state"]
     states = states.replace(info=dict(states.info, task_state=task_state._replace(
-        learned=task_state.learned.at[0, :3].set(True))))
+        learned=task_state.learned.at[0].set(jnp.array([2, 1])))))
     _, _, (final, (_, _, done, commands, metrics)) = rollout("cpg-d", "omni-pdec", states)
-    learned = np.asarray(final.info["task_state"].learned)
-    assert learned[0].sum() == 3 and learned[0, :3].all() and not learned[1].any()
+    np.testing.assert_array_equal(np.asarray(final.info["task_state"].learned), [[2, 1], [0, 0]])
     np.testing.assert_allclose(np.asarray(metrics["curriculum/learned_bins"])[:, -1], [3, 0])
-    commands = np.asarray(commands)
-    np.testing.assert_allclose(np.linalg.norm(commands[..., :2], axis=-1), 0.25, atol=1e-6)  # half speed
+    speeds = np.linalg.norm(np.asarray(commands)[..., :2], axis=-1)
+    np.testing.assert_allclose(speeds[1], 0.25, atol=1e-6)  # the code's 0.25 m/s until complete
+    assert speeds[0].max() <= 0.25 + 1e-6
     for seed in range(SEEDS):
         assert np.asarray(done)[seed].sum() >= 2
-        assert len({tuple(c.round(5)) for c in commands[seed]}) >= 2  # a fresh command every episode
+        assert len({tuple(c.round(5)) for c in np.asarray(commands)[seed]}) >= 2  # a fresh command every episode

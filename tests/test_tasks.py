@@ -62,52 +62,76 @@ def test_omni_evaluation_commands_are_four_directions_at_two_speeds():
     assert commands["right_half"] == pytest.approx((0.0, -0.25, 0.0))
 
 
-def test_bins_start_backward_and_tile_the_circle():
-    low, high = jax.vmap(curriculum.bin_range)(jnp.arange(10))
-    degrees = lambda x: np.degrees(np.asarray(x))
-    np.testing.assert_allclose(degrees(low[:5]), [144, 108, 72, 36, 0], atol=1e-4)  # left half, backward first
-    np.testing.assert_allclose(degrees(high[5:]), [-144, -108, -72, -36, 0], atol=1e-4)  # right half
-    np.testing.assert_allclose(degrees(high - low), 36, atol=1e-4)
+TEXT, CODE = curriculum.RULES["thesis-text"], curriculum.RULES["thesis-code"]
 
 
-def test_sampling_probabilities():
-    learned = jnp.zeros(10, bool)
-    p = np.asarray(curriculum.bin_probabilities(learned))
-    np.testing.assert_allclose(p[[0, 5]], 0.5)  # nothing learned: the two backward bins, equally
-    assert p.sum() == pytest.approx(1.0)
-    learned = learned.at[0].set(True)
-    p = np.asarray(curriculum.bin_probabilities(learned))
-    np.testing.assert_allclose(p[[1, 5, 0]], [0.4, 0.4, 0.2])  # next left 2/5, next right 2/5, learned 1/5
-    left_done = jnp.zeros(10, bool).at[:5].set(True)
-    p = np.asarray(curriculum.bin_probabilities(left_done))
-    # No next-left bin: 2/5 right, 1/5 over five learned bins, renormalised over 3/5.
-    np.testing.assert_allclose(p[5], 2 / 3)
-    np.testing.assert_allclose(p[:5], 1 / 15)
+def _state(left, right, **changes):
+    return curriculum.init()._replace(learned=jnp.array([left, right], jnp.int32), **changes)
 
 
-def test_samples_land_in_the_drawn_bin_at_half_speed_until_complete():
-    state = curriculum.init()._replace(learned=jnp.zeros(10, bool).at[0].set(True))
-    keys = jax.random.split(jax.random.PRNGKey(1), 500)
-    states, commands = jax.vmap(lambda k: curriculum.sample(state, k, 0.5))(keys)
-    bins, commands = np.asarray(states.bin), np.asarray(commands)
-    assert set(bins) == {0, 1, 5}
-    assert 0.1 < (bins == 0).mean() < 0.3
+def test_parts_start_backward_and_grow_towards_forward():
+    degrees = lambda part, left, right: np.degrees(np.asarray(curriculum.part_range(jnp.array([left, right]), part)))
+    np.testing.assert_allclose(degrees(curriculum.NEXT_LEFT, 0, 0), [144, 180], atol=1e-4)
+    np.testing.assert_allclose(degrees(curriculum.NEXT_RIGHT, 0, 0), [-180, -144], atol=1e-4)
+    np.testing.assert_allclose(degrees(curriculum.NEXT_LEFT, 4, 1), [0, 36], atol=1e-4)  # the forward bin
+    np.testing.assert_allclose(degrees(curriculum.LEARNED, 2, 1), [108, 216], atol=1e-4)  # 216 deg = -144 deg
+
+
+@pytest.mark.parametrize("rules, learned, expected", [
+    (TEXT, (0, 0), (0.5, 0.5, 0.0)),  # nothing learned: the two backward bins, equally
+    (CODE, (0, 0), (0.5, 0.5, 0.0)),
+    (TEXT, (1, 0), (0.4, 0.4, 0.2)),  # text: the learned region as soon as one bin is learned
+    (CODE, (1, 0), (0.5, 0.5, 0.0)),  # code: 50/50 until each half has a bin
+    (CODE, (1, 1), (0.4, 0.4, 0.2)),
+    (TEXT, (5, 2), (0.0, 2 / 3, 1 / 3)),  # text: a half stops at forward, its share goes to the others
+    (CODE, (5, 2), (0.4, 0.4, 0.2)),  # code: the left half grows past forward
+    (TEXT, (5, 5), (0.0, 0.0, 1.0)),
+    (CODE, (7, 3), (0.0, 0.0, 1.0)),
+])
+def test_part_probabilities(rules, learned, expected):
+    p = curriculum.part_probabilities(jnp.array(learned, jnp.int32), rules)
+    np.testing.assert_allclose(np.asarray(p), expected, atol=1e-6)
+
+
+def _samples(state, rules, n=2000):
+    keys = jax.random.split(jax.random.PRNGKey(1), n)
+    states, commands = jax.vmap(lambda k: curriculum.sample(state, k, 0.5, rules))(keys)
+    return np.asarray(states.part), np.asarray(commands)
+
+
+def test_text_samples_land_in_the_drawn_part_at_half_speed_until_complete():
+    parts, commands = _samples(_state(1, 1), TEXT)
+    assert 0.15 < (parts == curriculum.LEARNED).mean() < 0.25
     np.testing.assert_allclose(np.linalg.norm(commands[:, :2], axis=1), 0.25, atol=1e-6)
     angles = np.arctan2(commands[:, 1], commands[:, 0])
-    low, high = jax.vmap(curriculum.bin_range)(jnp.asarray(bins))
-    assert np.all((angles >= np.asarray(low) - 1e-5) & (angles <= np.asarray(high) + 1e-5))
-    full = curriculum.init()._replace(learned=jnp.ones(10, bool))
-    _, command = curriculum.sample(full, keys[0], 0.5)
-    assert float(jnp.linalg.norm(command[:2])) == pytest.approx(0.5)
+    for part in range(3):
+        low, high = np.asarray(curriculum.part_range(jnp.array([1, 1]), part))
+        wrapped = np.mod(angles[parts == part] - low, 2 * np.pi)
+        assert np.all(wrapped <= high - low + 1e-5), part
+    _, commands = _samples(_state(5, 5), TEXT, n=50)
+    np.testing.assert_allclose(np.linalg.norm(commands[:, :2], axis=1), 0.5, atol=1e-6)
 
 
-def _window(state, command, velocity_xy, yaw, steps=curriculum.WINDOW_STEPS):
+def test_code_learned_region_speeds_are_random_or_zero():
+    parts, commands = _samples(_state(2, 2), CODE)
+    speeds = np.linalg.norm(commands[:, :2], axis=1)
+    np.testing.assert_allclose(speeds[parts != curriculum.LEARNED], 0.25, atol=1e-6)  # the 0.25 m/s cap
+    learned = speeds[parts == curriculum.LEARNED]
+    assert 0.05 < (learned == 0).mean() < 0.15  # stop with probability 0.1
+    moving = learned[learned > 0]
+    assert moving.min() >= 0.1 - 1e-6 and moving.max() <= 0.25 + 1e-6 and moving.std() > 0.03
+    _, commands = _samples(_state(6, 4), CODE)  # complete: the whole circle, U(0.1, 0.5)
+    assert np.linalg.norm(commands[:, :2], axis=1).max() > 0.45
+
+
+def _run(state, command, velocity_xy, yaw, rules, steps=curriculum.WINDOW_STEPS):
     def body(s, _):
-        return curriculum.record(s, command, jnp.asarray(velocity_xy), jnp.float32(yaw)), None
+        return curriculum.record(s, command, jnp.asarray(velocity_xy), jnp.float32(yaw), rules), None
 
     return jax.lax.scan(body, state, None, length=steps)[0]
 
 
+@pytest.mark.parametrize("rules", [TEXT, CODE], ids=["text", "code"])
 @pytest.mark.parametrize("velocity_xy, yaw, learned", [
     ((-0.238, 0.0), 0.0, True),  # 95.2 % of 0.25 m/s backward
     ((-0.23, 0.0), 0.0, False),  # 92 %
@@ -115,19 +139,44 @@ def _window(state, command, velocity_xy, yaw, steps=curriculum.WINDOW_STEPS):
     ((-0.25, 0.06), 0.0, False),  # lateral 0.06
     ((-0.25, 0.0), -0.06, False),  # yaw 0.06
 ])
-def test_a_bin_is_learned_by_the_400_step_window(velocity_xy, yaw, learned):
-    state = curriculum.init()._replace(bin=jnp.int32(0))
+def test_a_bin_is_learned_by_the_400_step_mean(rules, velocity_xy, yaw, learned):
+    state = _state(0, 0, part=jnp.int32(curriculum.NEXT_LEFT))
     command = jnp.array([-0.25, 0.0, 0.0])
-    almost = _window(state, command, velocity_xy, yaw, steps=curriculum.WINDOW_STEPS - 1)
-    assert not bool(almost.learned[0]) and int(almost.window) == curriculum.WINDOW_STEPS - 1
-    after = _window(state, command, velocity_xy, yaw)
-    assert bool(after.learned[0]) == learned
-    assert int(after.window) == 0 and np.all(np.asarray(after.sums) == 0)  # a new window starts
-    assert int(jnp.sum(after.learned)) == int(learned)
+    if rules is TEXT:  # judged only once the window is full
+        almost = _run(state, command, velocity_xy, yaw, rules, steps=curriculum.WINDOW_STEPS - 1)
+        assert int(almost.learned[0]) == 0
+    after = _run(state, command, velocity_xy, yaw, rules)
+    assert tuple(np.asarray(after.learned)) == (int(learned), 0)
+    twice = _run(state, command, velocity_xy, yaw, rules, steps=3 * curriculum.WINDOW_STEPS)
+    assert tuple(np.asarray(twice.learned)) == (int(learned), 0)  # at most one bin per episode
+
+
+def test_text_judges_whole_windows_and_code_a_rolling_mean():
+    """Stand still for 200 steps, then walk at the command: only the rolling mean catches up."""
+    state = _state(1, 1, part=jnp.int32(curriculum.NEXT_RIGHT))
+    command = jnp.array([-0.25, 0.0, 0.0])
+    for rules, expected in ((TEXT, 1), (CODE, 2)):
+        s = _run(state, command, (0.0, 0.0), 0.0, rules, steps=200)
+        s = _run(s, command, (-0.25, 0.0), 0.0, rules, steps=500)
+        assert int(s.learned[1]) == expected
+
+
+def test_the_learned_region_never_levels_up():
+    state = _state(1, 1, part=jnp.int32(curriculum.LEARNED))
+    after = _run(state, jnp.array([-0.25, 0.0, 0.0]), (-0.3, 0.0), 0.0, CODE)
+    assert tuple(np.asarray(after.learned)) == (1, 1)
 
 
 def test_progress_metrics_count_bins_per_half():
-    state = curriculum.init()._replace(learned=jnp.array([1, 1, 0, 0, 0, 1, 0, 0, 0, 0], bool))
-    progress = curriculum.progress(state)
+    progress = curriculum.progress(_state(2, 1))
     assert float(progress["curriculum/learned_bins"]) == 3
     assert float(progress["curriculum/left_bins"]) == 2 and float(progress["curriculum/right_bins"]) == 1
+
+
+def test_the_protocols_choose_the_curriculum_rules():
+    code, text = tasks.make_task("omni-pdec", "thesis-code"), tasks.make_task("omni-pdec", "thesis-text", "thesis-code")
+    state = _state(2, 2)
+    key = jax.random.PRNGKey(3)
+    speeds = [float(jnp.linalg.norm(t.command(state, k)[1][:2])) for t in (code, text)
+              for k in jax.random.split(key, 20)]
+    assert len(set(np.round(speeds, 4))) > 2  # both draw random learned-region speeds
