@@ -10,6 +10,8 @@ claims it may move. Each swap is run beside its unswapped baseline at the attrib
 import dataclasses
 from pathlib import Path
 
+import numpy as np
+
 from mjx_badger import plots, protocols, results
 from mjx_badger.experiments import EXPERIMENTS, Profile, Run, result_name
 from mjx_badger.train import TrainConfig
@@ -64,6 +66,8 @@ SWAPS = (
     Swap("CrossQ details", "thesis-code",
          ("crossq_policy_delay", "crossq_renorm_warmup", "crossq_actor_renorm", "target_entropy"), "forward",
          ("jt-nf",), "steps_to_target", ("jt-convergence",)),
+    Swap("curriculum rules", "thesis-code", ("curriculum",), "omni-pdec", ("cpg-vf",), "eval/desired_mae",
+         ("pdec-error", "pdec-beats-random")),
 )
 SWAPS_BY_NAME = {swap.name: swap for swap in SWAPS}
 
@@ -97,6 +101,8 @@ def planned(results_dir: Path):
 def _figure(path: Path, swap: Swap):
     if not path.exists():
         return None
+    if swap.measure.startswith("eval/"):  # an evaluation metric: its final value, mean over seeds
+        return float(np.nanmean(plots.final(results.read(path), swap.measure)))
     return plots.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[swap.measure]
 
 
@@ -107,6 +113,8 @@ def _words(value, measure: str) -> str:
         return f"{value / 1000:.0f}k steps"
     if measure == "falls_mean":
         return f"{value:.1f} falls"
+    if measure == "eval/desired_mae":
+        return f"{value:.2f} m/s desired MAE"
     return f"{value:.2f} m/s"
 
 

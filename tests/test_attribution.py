@@ -32,3 +32,20 @@ def test_attribute_refuses_unknown_swaps(capsys):
     with pytest.raises(SystemExit) as exit_info:
         main(["attribute", "--only", "everything"])
     assert exit_info.value.code == 2 and "termination rule" in capsys.readouterr().err
+
+
+def test_the_table_reads_evaluation_measures_as_final_seed_means(tmp_path):
+    import json
+
+    from mjx_badger import results
+
+    swap = attribution.SWAPS_BY_NAME["curriculum rules"]
+    run = swap.runs()[0]
+    for where, maes in ((None, [0.4, 0.2]), (swap, [0.3, 0.1])):
+        path = attribution.folder(tmp_path, where, swap.base) / swap.experiment / attribution.result_name(run)
+        path.parent.mkdir(parents=True)
+        document = {"schema": results.SCHEMA, "steps": [1000, 2000],
+                    "metrics": {"eval/desired_mae": [[0.9, 0.9], maes]}}
+        path.write_text(json.dumps(document))
+    row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| curriculum rules")]
+    assert row and "| 0.30 m/s desired MAE | 0.20 m/s desired MAE |" in row[0]
