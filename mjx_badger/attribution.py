@@ -85,10 +85,10 @@ def train_config(swap: Swap, run: Run, baseline: bool = False) -> TrainConfig:
                        protocol_changes=() if baseline else swap.changes, robot="hb40" if baseline else swap.robot)
 
 
-def planned(results_dir: Path):
-    """(swap, run, config, path) of every attribution run, baselines included (shared between swaps)."""
+def planned(results_dir: Path, swaps: tuple = SWAPS):
+    """(swap, run, config, path) of the swaps' runs, each baseline once (shared between swaps)."""
     seen = set()
-    for swap in SWAPS:
+    for swap in swaps:
         for run in swap.runs():
             for baseline in (True, False):
                 where = folder(results_dir, None if baseline else swap, swap.base)

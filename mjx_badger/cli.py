@@ -347,8 +347,8 @@ def _swap_names():
 def attribute_command(args) -> int:
     from mjx_badger import attribution, results, runner
 
-    todo = [(swap, run, config, path) for swap, run, config, path in attribution.planned(args.results_dir)
-            if args.only is None or swap.name in args.only]
+    swaps = tuple(swap for swap in attribution.SWAPS if args.only is None or swap.name in args.only)
+    todo = list(attribution.planned(args.results_dir, swaps))
     seeds = list(range(attribution.PROFILE.seeds))
     for swap, run, config, path in todo:
         if path.exists() and results.read(path).get("complete"):

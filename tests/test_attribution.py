@@ -49,3 +49,9 @@ def test_the_table_reads_evaluation_measures_as_final_seed_means(tmp_path):
         path.write_text(json.dumps(document))
     row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| curriculum rules")]
     assert row and "| 0.30 m/s desired MAE | 0.20 m/s desired MAE |" in row[0]
+
+
+def test_a_swap_run_alone_brings_its_baselines(tmp_path):
+    swap = attribution.SWAPS_BY_NAME["JT gains and rate"]  # its baselines are shared with earlier swaps
+    paths = [path for *_, path in attribution.planned(tmp_path, (swap,))]
+    assert sum("baseline" in path.parts for path in paths) == len(swap.approaches) == len(paths) // 2
