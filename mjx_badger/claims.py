@@ -94,16 +94,29 @@ def _reached(s: dict, limit: float = np.inf) -> bool:
     return s["steps_to_target"] is not None and s["steps_to_target"] <= limit
 
 
+ALGOS = ("sac", "sac-utd20", "droq", "crossq")
+
+
 def _first_to_target(r: Results):
-    minutes = {a: r.summary("algo-comparison", a)["minutes_to_target"] for a in ("sac", "sac-utd20", "droq", "crossq")}
-    words = ", ".join(f"{NAMES[a]} {'never' if m is None else f'{m:.1f} min'}" for a, m in minutes.items())
+    s = {a: r.summary("algo-comparison", a) for a in ALGOS}
+    minutes = {a: s[a]["minutes_to_target"] for a in ALGOS}
+    words = ", ".join(f"{NAMES[a]} " + (f"not in {s[a]['minutes']:.1f}" if m is None else f"{m:.1f}")
+                      for a, m in minutes.items()) + " simulated min"
     others = [m for a, m in minutes.items() if a != "crossq" and m is not None]
     return words, minutes["crossq"] is not None and all(minutes["crossq"] < m for m in others)
 
 
+def _falls_at(document: dict, minutes: float) -> float:
+    """Cumulative falls, mean over seeds, at the last chunk within `minutes` of simulated time."""
+    index = int(np.searchsorted(np.asarray(document["sim_minutes"]), minutes + 1e-9)) - 1
+    return float(np.mean(plots.series(document, "train/falls")[max(index, 0)]))
+
+
 def _crossq_falls(r: Results):
-    crossq, droq = (r.summary("algo-comparison", a)["falls_mean"] for a in ("crossq", "droq"))
-    return f"CrossQ {crossq:.1f}, DroQ {droq:.1f}", crossq < droq
+    crossq, droq = (r.document("algo-comparison", a) for a in ("crossq", "droq"))
+    minutes = min(crossq["sim_minutes"][-1], droq["sim_minutes"][-1])  # the UTD runs are shorter
+    ours, theirs = _falls_at(crossq, minutes), _falls_at(droq, minutes)
+    return f"CrossQ {ours:.1f}, DroQ {theirs:.1f} in the first {minutes:.1f} simulated min", ours < theirs
 
 
 def _jt_convergence(r: Results):
@@ -204,7 +217,7 @@ CLAIMS = (
           "CrossQ's simulated minutes to 90 % of 0.5 m/s below every other algorithm that gets there",
           _first_to_target),
     Claim("crossq-falls", "CrossQ falls less than DroQ", "Fig 5.2, §5.1.1", "CrossQ ~14, DroQ ~32",
-          "mean falls CrossQ < DroQ", _crossq_falls),
+          "mean falls CrossQ < DroQ over the same simulated time (the shorter run's)", _crossq_falls),
     Claim("jt-convergence", "JT-NF and JT-OEF converge in ~5k steps, JT-LPF in ~10k", "Fig 5.3, §5.1.2",
           "NF ~5k, OEF ~5k, LPF ~10k", "NF and OEF within 10k steps; LPF gets there, no earlier than both",
           _jt_convergence),

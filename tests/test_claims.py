@@ -45,3 +45,17 @@ def test_jt_falls_fail_when_far_from_the_thesis(tmp_path):
         _write(folder, "forward", name, _document(0.5, falls))
     board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-text")}
     assert board["jt-falls"].holds is False  # 58 is more than 3x the thesis's 13
+
+
+def test_algorithm_claims_compare_falls_over_the_same_simulated_time(tmp_path):
+    """DroQ's run is a quarter as long: CrossQ's falls are read where DroQ's run ends."""
+    folder = tmp_path / "quick" / "thesis-code"
+    _write(folder, "algo-comparison", "crossq", _document(0.55, 40.0))  # 10 falls by 2 min, 40 by 8
+    _write(folder, "algo-comparison", "droq", _document(0.55, 20.0, chunks=5))  # 20 falls by 2 min, no target
+    _write(folder, "algo-comparison", "sac", _document(0.3, 5.0))
+    _write(folder, "algo-comparison", "sac-utd20", _document(0.55, 5.0, chunks=4))
+    board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}
+    assert board["crossq-falls"].holds is True and "CrossQ 10.0, DroQ 20.0 in the first 2.0" in board["crossq-falls"].ours
+    # CrossQ and DroQ reach 90 % of 0.5 m/s together at chunk 5 (2.0 min); SAC-UTD20 stops at 1.6 min, SAC never does.
+    assert board["crossq-first"].holds is False
+    assert "SAC not in 8.0" in board["crossq-first"].ours and "SAC-UTD20 not in 1.6" in board["crossq-first"].ours
