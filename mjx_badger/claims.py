@@ -83,7 +83,7 @@ class Claim:
             ours, holds = self.measure(results)
         except Missing as missing:
             return Verdict(self, f"no results ({missing})", None)
-        return Verdict(self, ours, bool(holds))
+        return Verdict(self, ours, None if holds is None else bool(holds))
 
 
 def _steps(s: dict) -> str:
@@ -102,8 +102,17 @@ def _first_to_target(r: Results):
     minutes = {a: s[a]["minutes_to_target"] for a in ALGOS}
     words = ", ".join(f"{NAMES[a]} " + (f"not in {s[a]['minutes']:.1f}" if m is None else f"{m:.1f}")
                       for a, m in minutes.items()) + " simulated min"
-    others = [m for a, m in minutes.items() if a != "crossq" and m is not None]
-    return words, minutes["crossq"] is not None and all(minutes["crossq"] < m for m in others)
+    ours = minutes["crossq"]
+    if ours is None:
+        return words, False
+    others = [a for a in ALGOS if a != "crossq"]
+    if any(minutes[a] is not None and minutes[a] <= ours for a in others):
+        return words, False
+    # A run that stopped short of CrossQ's time without reaching the target might still have beaten it.
+    undecided = [NAMES[a] for a in others if minutes[a] is None and s[a]["minutes"] < ours]
+    if undecided:
+        return words + f" (undecided: {', '.join(undecided)} stopped before {ours:.1f} min)", None
+    return words, True
 
 
 def _falls_at(document: dict, minutes: float) -> float:
@@ -214,7 +223,8 @@ def _curriculum_error(r: Results):
 
 CLAIMS = (
     Claim("crossq-first", "CrossQ reaches 0.5 m/s first", "Fig 5.2, §5.1.1", "CrossQ ~2 min, DroQ ~7 min",
-          "CrossQ's simulated minutes to 90 % of 0.5 m/s below every other algorithm that gets there",
+          "CrossQ's simulated minutes to 90 % of 0.5 m/s below every other algorithm's; undecided while "
+          "another run stops short of CrossQ's time without reaching the target",
           _first_to_target),
     Claim("crossq-falls", "CrossQ falls less than DroQ", "Fig 5.2, §5.1.1", "CrossQ ~14, DroQ ~32",
           "mean falls CrossQ < DroQ over the same simulated time (the shorter run's)", _crossq_falls),
@@ -265,11 +275,17 @@ def scoreboard_text(verdicts: list[Verdict], profile: str, protocol: str) -> str
     checked = sum(v.holds is not None for v in verdicts)
     lines = []
     for v in verdicts:
-        mark = {True: "HOLDS", False: "FAILS", None: "  -  "}[v.holds]
+        mark = {True: "HOLDS", False: "FAILS", None: "  -  " if v.ours.startswith("no results") else "  ?  "}[v.holds]
         lines.append(f"  {mark}  {v.claim.finding} [{v.claim.figure}]")
         lines.append(f"         thesis: {v.claim.thesis} | ours: {v.ours}")
     return (f"thesis claims, {protocol} protocol, {profile} profile: {held} of {len(verdicts)} hold "
             f"({checked} checked)\n" + "\n".join(lines))
+
+
+def _cell(v: Verdict) -> str:
+    if v.holds is None:
+        return "not run yet" if v.ours.startswith("no results") else f"undecided: {v.ours}"
+    return f"{'**holds**' if v.holds else 'fails'}: {v.ours}"
 
 
 def scoreboard_markdown(boards: dict) -> str:
@@ -279,7 +295,7 @@ def scoreboard_markdown(boards: dict) -> str:
              "|---|---|" + "---|" * len(names)]
     for row in zip(*boards.values()):
         claim = row[0].claim
-        cells = ["not run yet" if v.holds is None else f"{'**holds**' if v.holds else 'fails'}: {v.ours}" for v in row]
+        cells = [_cell(v) for v in row]
         lines.append(f"| {claim.finding} ({claim.figure}) | {claim.thesis} | " + " | ".join(cells) + " |")
     totals = [f"{sum(v.holds is True for v in board)} of {len(board)}" for board in boards.values()]
     lines.append("| **claims that hold** | | " + " | ".join(totals) + " |")

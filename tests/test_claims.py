@@ -56,6 +56,21 @@ def test_algorithm_claims_compare_falls_over_the_same_simulated_time(tmp_path):
     _write(folder, "algo-comparison", "sac-utd20", _document(0.55, 5.0, chunks=4))
     board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}
     assert board["crossq-falls"].holds is True and "CrossQ 10.0, DroQ 20.0 in the first 2.0" in board["crossq-falls"].ours
-    # CrossQ and DroQ reach 90 % of 0.5 m/s together at chunk 5 (2.0 min); SAC-UTD20 stops at 1.6 min, SAC never does.
+    # CrossQ and DroQ reach 90 % of 0.5 m/s together at chunk 5 (2.0 min): CrossQ is not first.
     assert board["crossq-first"].holds is False
     assert "SAC not in 8.0" in board["crossq-first"].ours and "SAC-UTD20 not in 1.6" in board["crossq-first"].ours
+
+
+def test_crossq_first_is_undecided_while_a_shorter_run_might_have_beaten_it(tmp_path):
+    folder = tmp_path / "quick" / "thesis-code"
+    _write(folder, "algo-comparison", "crossq", _document(0.55, 4.0))  # reaches at 2.0 min
+    _write(folder, "algo-comparison", "droq", _document(0.3, 4.0, chunks=4))  # stops at 1.6 min, short of it
+    _write(folder, "algo-comparison", "sac", _document(0.3, 5.0))
+    _write(folder, "algo-comparison", "sac-utd20", _document(0.3, 5.0, chunks=10))  # 4.0 min without reaching
+    board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}
+    verdict = board["crossq-first"]
+    assert verdict.holds is None and "undecided: DroQ stopped before 2.0 min" in verdict.ours
+    assert "| undecided: " in claims.scoreboard_markdown({"thesis-code": list(board.values())})
+    _write(folder, "algo-comparison", "droq", _document(0.3, 4.0, chunks=6))  # 2.4 min without reaching
+    board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}
+    assert board["crossq-first"].holds is True
