@@ -292,7 +292,7 @@ def algorithms_figure(experiment: Experiment, documents: dict, out: Path, profil
     thesis = ("CrossQ reaches 0.5 m/s after ~2 min, DroQ ~7; falls CrossQ ~14, DroQ ~32; "
               "SAC / SAC-UTD20 reach the target at lower velocities")
     panels = (("train/forward_velocity", "forward velocity (training)", "forward velocity [m/s]"),
-              ("train/episode_return", "episode return (800 steps at 40 Hz, 400 at 20 Hz)", "return"),
+              ("train/episode_return", "episode return (one episode: the protocol's seconds x control Hz steps)", "return"),
               ("train/falls", "falls during training (cumulative)", "falls"))
     return learning_curves(experiment, documents, out, profile, "minutes", panels,
                            ("Algorithm comparison, JT-NF forward at 0.5 m/s", thesis))
