@@ -28,8 +28,8 @@ class Swap:
     """Protocol fields set to the other protocol's value."""
     experiment: str
     approaches: tuple
-    measure: str
-    """The summary figure compared (plots.summarize): falls_mean, steps_to_target, final_eval_velocity_max."""
+    measures: tuple
+    """Figures compared (plots.summarize names, or `eval/...` for a final evaluation metric), one per claim kind."""
     claims: tuple
     """Ids of the claims (claims.py) this departure may move."""
     robot: str = "hb40"
@@ -49,24 +49,24 @@ class Swap:
 
 
 SWAPS = (
-    Swap("robot geometry", "thesis-code", (), "forward", ("jt-nf", "jt-oef", "jt-lpf"), "falls_mean",
+    Swap("robot geometry", "thesis-code", (), "forward", ("jt-nf", "jt-oef", "jt-lpf"), ("falls_mean",),
          ("jt-falls",), robot="hb40-v1"),
     Swap("termination rule", "thesis-code", ("termination",), "forward", ("jt-nf", "jt-oef", "jt-lpf"),
-         "falls_mean", ("jt-falls",)),
+         ("falls_mean",), ("jt-falls",)),
     Swap("CPG terminates", "thesis-code", ("cpg_terminates",), "forward", ("cpg-d", "cpg-vf", "cpg-rt"),
-         "falls_mean", ("cpg-never-falls",)),
-    Swap("low-pass filter", "thesis-code", ("lowpass",), "forward", ("jt-lpf",), "steps_to_target",
-         ("jt-convergence", "jt-gait-order")),
+         ("falls_mean",), ("cpg-never-falls",)),
+    Swap("low-pass filter", "thesis-code", ("lowpass",), "forward", ("jt-lpf",),
+         ("steps_to_target", "gait_hz"), ("jt-convergence", "jt-gait-order")),
     Swap("JT gains and rate", "thesis-code", ("jt_pd_gains", "jt_control_hz"), "forward", ("jt-nf", "jt-oef"),
-         "steps_to_target", ("jt-convergence", "jt-falls")),
-    Swap("action delay", "thesis-code", ("action_delay",), "forward", ("jt-nf",), "falls_mean",
-         ("jt-falls", "jt-convergence")),
+         ("steps_to_target", "falls_mean"), ("jt-convergence", "jt-falls")),
+    Swap("action delay", "thesis-code", ("action_delay",), "forward", ("jt-nf",),
+         ("falls_mean", "steps_to_target"), ("jt-falls", "jt-convergence")),
     Swap("CPG action on joint angles", "thesis-code", ("cpg_action",), "forward-max", ("cpg-d", "cpg-vf"),
-         "final_eval_velocity_max", ("cpg-vf-max",)),
+         ("final_eval_velocity_max",), ("cpg-vf-max",)),
     Swap("CrossQ details", "thesis-code",
          ("crossq_policy_delay", "crossq_renorm_warmup", "crossq_actor_renorm", "target_entropy"), "forward",
-         ("jt-nf",), "steps_to_target", ("jt-convergence",)),
-    Swap("curriculum rules", "thesis-code", ("curriculum",), "omni-pdec", ("cpg-vf",), "eval/desired_mae",
+         ("jt-nf",), ("steps_to_target",), ("jt-convergence",)),
+    Swap("curriculum rules", "thesis-code", ("curriculum",), "omni-pdec", ("cpg-vf",), ("eval/desired_mae",),
          ("pdec-error", "pdec-beats-random")),
 )
 SWAPS_BY_NAME = {swap.name: swap for swap in SWAPS}
@@ -98,21 +98,23 @@ def planned(results_dir: Path, swaps: tuple = SWAPS):
                     yield swap, run, train_config(swap, run, baseline), path
 
 
-def _figure(path: Path, swap: Swap):
+def _figure(path: Path, swap: Swap, measure: str):
     if not path.exists():
         return None
-    if swap.measure.startswith("eval/"):  # an evaluation metric: its final value, mean over seeds
-        return float(np.nanmean(plots.final(results.read(path), swap.measure)))
-    return plots.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[swap.measure]
+    if measure.startswith("eval/"):  # an evaluation metric: its final value, mean over seeds
+        return float(np.nanmean(plots.final(results.read(path), measure)))
+    return plots.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[measure]
 
 
 def _words(value, measure: str) -> str:
     if value is None:
-        return "never" if measure == "steps_to_target" else "-"
+        return {"steps_to_target": "never", "gait_hz": "no gait"}.get(measure, "-")
     if measure == "steps_to_target":
         return f"{value / 1000:.0f}k steps"
     if measure == "falls_mean":
         return f"{value:.1f} falls"
+    if measure == "gait_hz":
+        return f"{value:.1f} Hz"
     if measure == "eval/desired_mae":
         return f"{value:.2f} m/s desired MAE"
     return f"{value:.2f} m/s"
@@ -124,12 +126,13 @@ def table(results_dir: Path) -> str:
              "| claims it can move |", "|---|---|---|---|---|"]
     for swap in SWAPS:
         for run in swap.runs():
-            base = _figure(folder(results_dir, None, swap.base) / swap.experiment / result_name(run), swap)
+            base_path = folder(results_dir, None, swap.base) / swap.experiment / result_name(run)
             swapped_path = folder(results_dir, swap, swap.base) / swap.experiment / result_name(run)
-            swapped = _figure(swapped_path, swap)
             if not swapped_path.exists():
                 continue
+            cells = ["; ".join(_words(_figure(path, swap, measure), measure) for measure in swap.measures)
+                     for path in (base_path, swapped_path)]
             lines.append(f"| {swap.name} ({swap.describe()}) | {swap.experiment} {run.approach} "
-                         f"| {_words(base, swap.measure)} | {_words(swapped, swap.measure)} | {', '.join(swap.claims)} |")
+                         f"| {cells[0]} | {cells[1]} | {', '.join(swap.claims)} |")
     return "\n".join(lines) + "\n"
 

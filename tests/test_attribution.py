@@ -55,3 +55,21 @@ def test_a_swap_run_alone_brings_its_baselines(tmp_path):
     swap = attribution.SWAPS_BY_NAME["JT gains and rate"]  # its baselines are shared with earlier swaps
     paths = [path for *_, path in attribution.planned(tmp_path, (swap,))]
     assert sum("baseline" in path.parts for path in paths) == len(swap.approaches) == len(paths) // 2
+
+
+def test_a_swap_with_two_measures_shows_both_in_each_cell(tmp_path):
+    import json
+
+    from mjx_badger import results
+
+    swap = attribution.SWAPS_BY_NAME["JT gains and rate"]
+    run = swap.runs()[0]
+    for where, falls in ((None, [6.0, 4.0]), (swap, [1.0, 2.0])):
+        path = attribution.folder(tmp_path, where, swap.base) / swap.experiment / attribution.result_name(run)
+        path.parent.mkdir(parents=True)
+        document = {"schema": results.SCHEMA, "config": {"warmup_steps": 1000}, "seeds": [0, 1],
+                    "complete": True, "steps": [1000, 2000], "sim_minutes": [0.3, 0.7],
+                    "metrics": {"train/falls": [[0, 0], falls], "train/forward_velocity": [[0.0, 0.0], [0.6, 0.6]]}}
+        path.write_text(json.dumps(document))
+    row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| JT gains")]
+    assert row and "| 2k steps; 5.0 falls | 2k steps; 1.5 falls |" in row[0]
