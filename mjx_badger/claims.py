@@ -111,7 +111,7 @@ def _first_to_target(r: Results):
     # A run that stopped short of CrossQ's time without reaching the target might still have beaten it.
     undecided = [NAMES[a] for a in others if minutes[a] is None and s[a]["minutes"] < ours]
     if undecided:
-        return words + f" (undecided: {', '.join(undecided)} stopped before {ours:.1f} min)", None
+        return words + f" ({', '.join(undecided)} stopped before {ours:.1f} min)", None
     return words, True
 
 
