@@ -121,15 +121,15 @@ def _words(value, measure: str) -> str:
 
 
 def table(results_dir: Path) -> str:
-    """The README's 'departure -> claims it moves' table from the attribution results that exist."""
+    """The README's 'departure -> claims it moves' table from the complete attribution results."""
     lines = ["| departure (fields set to the other protocol's value) | run | thesis-code baseline | swapped "
              "| claims it can move |", "|---|---|---|---|---|"]
     for swap in SWAPS:
         for run in swap.runs():
             base_path = folder(results_dir, None, swap.base) / swap.experiment / result_name(run)
             swapped_path = folder(results_dir, swap, swap.base) / swap.experiment / result_name(run)
-            if not swapped_path.exists():
-                continue
+            if not swapped_path.exists() or not results.read(swapped_path)["complete"]:
+                continue  # not run yet, or still running
             cells = ["; ".join(_words(_figure(path, swap, measure), measure) for measure in swap.measures)
                      for path in (base_path, swapped_path)]
             lines.append(f"| {swap.name} ({swap.describe()}) | {swap.experiment} {run.approach} "

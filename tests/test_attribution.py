@@ -44,7 +44,7 @@ def test_the_table_reads_evaluation_measures_as_final_seed_means(tmp_path):
     for where, maes in ((None, [0.4, 0.2]), (swap, [0.3, 0.1])):
         path = attribution.folder(tmp_path, where, swap.base) / swap.experiment / attribution.result_name(run)
         path.parent.mkdir(parents=True)
-        document = {"schema": results.SCHEMA, "steps": [1000, 2000],
+        document = {"schema": results.SCHEMA, "steps": [1000, 2000], "complete": True,
                     "metrics": {"eval/desired_mae": [[0.9, 0.9], maes]}}
         path.write_text(json.dumps(document))
     row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| curriculum rules")]
@@ -73,3 +73,15 @@ def test_a_swap_with_two_measures_shows_both_in_each_cell(tmp_path):
         path.write_text(json.dumps(document))
     row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| JT gains")]
     assert row and "| 2k steps; 5.0 falls | 2k steps; 1.5 falls |" in row[0]
+
+
+def test_a_swap_still_running_is_left_out_of_the_table(tmp_path):
+    import json
+
+    from mjx_badger import results
+
+    swap = attribution.SWAPS_BY_NAME["action delay"]
+    path = attribution.folder(tmp_path, swap, swap.base) / swap.experiment / attribution.result_name(swap.runs()[0])
+    path.parent.mkdir(parents=True)
+    path.write_text(json.dumps({"schema": results.SCHEMA, "complete": False, "steps": [1000], "metrics": {}}))
+    assert "action delay" not in attribution.table(tmp_path)
