@@ -58,7 +58,10 @@ SWAPS = (
     Swap("low-pass filter", "thesis-code", ("lowpass",), "forward", ("jt-lpf",),
          ("steps_to_target", "gait_hz"), ("jt-convergence", "jt-gait-order")),
     Swap("JT gains and rate", "thesis-code", ("jt_pd_gains", "jt_control_hz"), "forward", ("jt-nf", "jt-oef"),
-         ("steps_to_target", "falls_mean"), ("jt-convergence", "jt-falls")),
+         ("steps_to_target", "falls_mean", "gait_hz"), ("jt-convergence", "jt-falls", "jt-gait-order")),
+    Swap("JT gains and rate at max velocity", "thesis-code", ("jt_pd_gains", "jt_control_hz"), "forward-max",
+         ("jt-nf", "jt-oef", "jt-lpf"), ("final_eval_velocity_max", "falls_mean"),
+         ("jt-max-velocity", "lpf-falls-most")),
     Swap("action delay", "thesis-code", ("action_delay",), "forward", ("jt-nf",),
          ("falls_mean", "steps_to_target"), ("jt-falls", "jt-convergence")),
     Swap("CPG action on joint angles", "thesis-code", ("cpg_action",), "forward-max", ("cpg-d", "cpg-vf"),
@@ -66,6 +69,8 @@ SWAPS = (
     Swap("CrossQ details", "thesis-code",
          ("crossq_policy_delay", "crossq_renorm_warmup", "crossq_actor_renorm", "target_entropy"), "forward",
          ("jt-nf",), ("steps_to_target",), ("jt-convergence",)),
+    Swap("reward forms", "thesis-code", ("rewards",), "omni-random", ("cpg-d", "cpg-vf"),
+         ("eval/desired_mae", "eval/yaw_mae"), ("omni-cpg-vf-best",)),
     Swap("curriculum rules", "thesis-code", ("curriculum",), "omni-pdec", ("cpg-vf",), ("eval/desired_mae",),
          ("pdec-error", "pdec-beats-random")),
 )
@@ -117,6 +122,8 @@ def _words(value, measure: str) -> str:
         return f"{value:.1f} Hz"
     if measure == "eval/desired_mae":
         return f"{value:.2f} m/s desired MAE"
+    if measure == "eval/yaw_mae":
+        return f"{value:.2f} rad/s yaw MAE"
     return f"{value:.2f} m/s"
 
 
