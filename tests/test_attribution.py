@@ -72,7 +72,7 @@ def test_a_swap_with_two_measures_shows_both_in_each_cell(tmp_path):
                     "metrics": {"train/falls": [[0, 0], falls], "train/forward_velocity": [[0.0, 0.0], [0.6, 0.6]]}}
         path.write_text(json.dumps(document))
     row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| JT gains")]
-    assert row and "| 2k steps; 5.0 falls | 2k steps; 1.5 falls |" in row[0]
+    assert row and "| 2k steps; 5.0 falls; no gait | 2k steps; 1.5 falls; no gait |" in row[0]
 
 
 def test_a_swap_still_running_is_left_out_of_the_table(tmp_path):
