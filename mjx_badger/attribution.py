@@ -66,6 +66,8 @@ SWAPS = (
          ("falls_mean", "steps_to_target"), ("jt-falls", "jt-convergence")),
     Swap("CPG action on joint angles", "thesis-code", ("cpg_action",), "forward-max", ("cpg-d", "cpg-vf"),
          ("final_eval_velocity_max",), ("cpg-vf-max",)),
+    Swap("actor log-std and temperature", "thesis-code", ("log_std_bounds", "temperature"), "forward",
+         ("jt-nf", "jt-oef"), ("steps_to_target", "falls_mean"), ("jt-convergence", "jt-falls")),
     Swap("CrossQ details", "thesis-code",
          ("crossq_policy_delay", "crossq_renorm_warmup", "crossq_actor_renorm", "target_entropy"), "forward",
          ("jt-nf",), ("steps_to_target",), ("jt-convergence",)),

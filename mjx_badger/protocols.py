@@ -65,8 +65,9 @@ class Protocol:
     until they meet, 50/50 halves until each has a bin, 0.25 m/s until complete, learned-region
     speeds U(0.1, cap) or 0, a rolling 400-step mean (§7). Text: 'thesis-text', §4.5.1 as we read it."""
     truncation_bootstraps_from: str
-    """Code: 'next-episode', the replay's next state at a time-out is the next episode's first
-    observation (Q/replay_buffer.py; a bug, reproduced). Text: 'final-observation'."""
+    """Code: 'next-episode', CrossQ's replay's next state at a time-out is the next episode's first
+    observation (Q/replay_buffer.py; a bug, reproduced; RL-X's SAC, SAC-UTD and DroQ store the final
+    observation, sac/*/sac.py, droq.py). Text: 'final-observation'."""
     crossq_policy_delay: int
     """Code: 1, the actor updates every step (§8). Text: 3, the CrossQ paper's default."""
     crossq_renorm_warmup: int
@@ -78,6 +79,12 @@ class Protocol:
     utd_actor_updates: int | None
     """Actor updates per env step of the many-updates algorithms. Code: 1, RL-X's SAC-UTD and DroQ
     update the actor once per step (§8). Text: None, once per critic update."""
+    log_std_bounds: str
+    """Code: 'clip', every RL-X policy clips its log-std to [-20, 2] (Q/policy.py, sac/*/policy.py), so an
+    untrained actor explores with std ~1. Text: 'squash', smoothly into [-10, 2] (the text is silent)."""
+    temperature: str
+    """Code: 'thesis-code', loss alpha (H - target) with optax's default Adam (b1 0.9) for alpha
+    (Q/crossq.py, sac/utd/sac.py). Text: 'thesis-text', log alpha (H - target), the algorithm's Adam (§2.3)."""
 
     def replace(self, **changes) -> "Protocol":
         unknown = set(changes) - {f.name for f in dataclasses.fields(self)}
@@ -94,9 +101,15 @@ class Protocol:
         fixed = self.cpg_control_hz if approach_is_cpg else self.jt_control_hz
         return fixed if fixed is not None else ALGORITHMS[algo]().control_hz
 
+    def bootstraps_from_next_episode(self, algo: str) -> bool:
+        """Whether a time-out's next state is the next episode's start (the released CrossQ only)."""
+        return self.truncation_bootstraps_from == "next-episode" and algo == "crossq"
+
     def agent_config(self, algo: str) -> AgentConfig:
         """The algorithm's configuration under this protocol."""
-        config = ALGORITHMS[algo]()
+        config = ALGORITHMS[algo]().replace(log_std_clip=self.log_std_bounds == "clip")
+        if self.temperature == "thesis-code":
+            config = config.replace(alpha_loss_scaled=True, alpha_adam_b1=0.9)
         if self.target_entropy is not None and algo == "crossq":
             config = config.replace(target_entropy=self.target_entropy)
         if algo == "crossq":
@@ -133,6 +146,8 @@ THESIS_CODE = Protocol(
     crossq_actor_renorm=True,
     target_entropy=-6.0,
     utd_actor_updates=1,
+    log_std_bounds="clip",
+    temperature="thesis-code",
 )
 
 THESIS_TEXT = Protocol(
@@ -161,6 +176,8 @@ THESIS_TEXT = Protocol(
     crossq_actor_renorm=False,
     target_entropy=None,
     utd_actor_updates=None,
+    log_std_bounds="squash",
+    temperature="thesis-text",
 )
 
 PROTOCOLS = {p.name: p for p in (THESIS_CODE, THESIS_TEXT)}

@@ -154,7 +154,7 @@ def make_train(config: TrainConfig) -> Trainer:
         env_state = env.step(carry.env_state, action)
         info = env_state.info
         next_obs = info["next_obs"]
-        if protocol.truncation_bootstraps_from == "next-episode":
+        if protocol.bootstraps_from_next_episode(config.algo):
             # The released replay's next state is the following row: at a time-out, the next episode's start.
             next_obs = jnp.where(info["truncated"], env_state.obs, next_obs)
         transition = Transition(obs, action, env_state.reward, next_obs, 1.0 - info["terminated"].astype(jnp.float32))

@@ -215,10 +215,40 @@ def test_target_entropy_is_minus_6_under_the_code():
     from mjx_badger.agents.networks import Actor, Critic
 
     losses = make_losses(Actor(2), Critic(), cfg, 2)
-    # J = -mean(log alpha (log pi + H)): with log alpha = 1 and log pi = 0 it is -H = 6.
-    assert float(losses.alpha(jnp.float32(1.0), jnp.zeros(3))) == pytest.approx(6.0)
+    # The code's J = -mean(alpha (log pi + H)): with log alpha = 1 and log pi = 0 it is -e H = 6 e.
+    assert float(losses.alpha(jnp.float32(1.0), jnp.zeros(3))) == pytest.approx(6.0 * np.e)
     text = TrainConfig(algo="crossq", protocol="thesis-text").agent_config
     assert float(make_losses(Actor(2), Critic(), text, 2).alpha(jnp.float32(1.0), jnp.zeros(3))) == pytest.approx(1.0)
+
+
+def test_the_codes_temperature_uses_adam_with_b1_0_9_whatever_the_actors():
+    cfg = TrainConfig(algo="crossq").agent_config.replace(hidden=(8,))
+    assert cfg.adam_b1 == 0.5 and cfg.alpha_adam_b1 == 0.9
+    log_alphas = []
+    for variant in (cfg, cfg.replace(alpha_adam_b1=None)):  # None: the actor's b1 0.5
+        agent = make_agent(variant, 4, 2)
+        state, update = agent.init(jax.random.PRNGKey(0)), jax.jit(agent.update)
+        for index in range(3):
+            state, _ = update(state, _batch(), jax.random.PRNGKey(index), index)
+        log_alphas.append(float(state.log_alpha))
+    assert log_alphas[0] != pytest.approx(log_alphas[1], abs=1e-7)
+    assert TrainConfig(algo="crossq", protocol="thesis-text").agent_config.alpha_adam_b1 is None
+
+
+def test_an_untrained_actor_explores_with_std_1_under_the_code():
+    """RL-X clips the raw log-std (0 for a zero input: std 1) to [-20, 2]; the text's squash maps 0 to std e^-4."""
+    obs = jnp.zeros((256, 4))  # zero features: the mean and raw log-std are their zero biases
+    for protocol, low, high in (("thesis-code", 0.3, 1.0), ("thesis-text", 0.0, 0.05)):
+        for algo in ("crossq", "sac"):
+            agent = make_agent(TrainConfig(algo=algo, protocol=protocol).agent_config.replace(hidden=(8,)), 4, 12)
+            actions = agent.act(agent.init(jax.random.PRNGKey(0)), obs, jax.random.PRNGKey(1))
+            assert low < float(jnp.std(actions)) < high, (protocol, algo, float(jnp.std(actions)))
+
+
+def test_only_the_released_crossq_bootstraps_a_time_out_from_the_next_episode():
+    assert CODE.bootstraps_from_next_episode("crossq")
+    assert not any(CODE.bootstraps_from_next_episode(a) for a in ("sac", "sac-utd20", "droq"))
+    assert not TEXT.bootstraps_from_next_episode("crossq")
 
 
 def test_renorm_warmup_is_the_codes_1000_updates():

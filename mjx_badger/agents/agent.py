@@ -39,7 +39,8 @@ class Agent(NamedTuple):
 def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
     """Build the pure functions of the agent `cfg` for the given observation and action sizes."""
     actor = Actor(action_size=action_size, hidden=cfg.hidden, batch_renorm=cfg.actor_batch_renorm,
-                  renorm_momentum=cfg.renorm_momentum, renorm_warmup_steps=cfg.renorm_warmup_steps)
+                  renorm_momentum=cfg.renorm_momentum, renorm_warmup_steps=cfg.renorm_warmup_steps,
+                  log_std_clip=cfg.log_std_clip)
     critic = Critic(
         ensemble_size=cfg.ensemble_size,
         hidden=cfg.hidden,
@@ -51,6 +52,7 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
     )
     losses = make_losses(actor, critic, cfg, action_size)
     optimizer = optax.adam(cfg.learning_rate, b1=cfg.adam_b1)
+    alpha_optimizer = optax.adam(cfg.learning_rate, b1=cfg.adam_b1 if cfg.alpha_adam_b1 is None else cfg.alpha_adam_b1)
 
     def init(key) -> AgentState:
         actor_key, critic_key = jax.random.split(key)
@@ -70,7 +72,7 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
             log_alpha=log_alpha,
             actor_opt=optimizer.init(actor_params),
             critic_opt=optimizer.init(critic_params),
-            alpha_opt=optimizer.init(log_alpha),
+            alpha_opt=alpha_optimizer.init(log_alpha),
             updates=jnp.int32(0),
         )
 
@@ -106,7 +108,7 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int) -> Agent:
             updates, actor_opt = optimizer.update(grads, state.actor_opt, state.actor_params)
             actor_params = optax.apply_updates(state.actor_params, updates)
             alpha_grad = jax.grad(losses.alpha)(state.log_alpha, log_prob)
-            updates, alpha_opt = optimizer.update(alpha_grad, state.alpha_opt, state.log_alpha)
+            updates, alpha_opt = alpha_optimizer.update(alpha_grad, state.alpha_opt, state.log_alpha)
             log_alpha = optax.apply_updates(state.log_alpha, updates)
             state = state.replace(actor_params=actor_params, actor_stats=actor_stats, actor_opt=actor_opt,
                                   log_alpha=log_alpha, alpha_opt=alpha_opt)

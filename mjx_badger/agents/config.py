@@ -21,6 +21,12 @@ class AgentConfig:
     """... unless this fixes it whatever |A| is (the released CrossQ scripts: -6)."""
     initial_alpha: float = 1.0
     adam_b1: float = 0.9
+    log_std_clip: bool = False
+    """Clip the actor's log-std to [-20, 2] (RL-X, the released code: std ~1 untrained); else squash it into [-10, 2]."""
+    alpha_loss_scaled: bool = False
+    """Temperature loss alpha (H - target), gradient alpha (H - target) on log alpha (RL-X); else log alpha (H - target)."""
+    alpha_adam_b1: float | None = None
+    """Adam b1 of the temperature; None: `adam_b1` (RL-X: optax's default 0.9 whatever the actor's)."""
     updates_per_step: int = 1
     """Gradient updates per environment step (the replay or UTD ratio)."""
     policy_delay: int = 1

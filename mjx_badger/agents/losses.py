@@ -102,7 +102,8 @@ def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
         return mean, log_std, updated["batch_stats"]
 
     def alpha_loss(log_alpha, log_prob):
-        """Temperature objective J(alpha) of §2.3 on log alpha."""
-        return -jnp.mean(log_alpha * jax.lax.stop_gradient(log_prob + target_entropy))
+        """Temperature objective J(alpha) of §2.3 on log alpha, or RL-X's alpha (H - target) (cfg.alpha_loss_scaled)."""
+        weight = jnp.exp(log_alpha) if cfg.alpha_loss_scaled else log_alpha
+        return -jnp.mean(weight * jax.lax.stop_gradient(log_prob + target_entropy))
 
     return Losses(critic=critic_loss, actor=actor_loss, alpha=alpha_loss)

@@ -8,6 +8,7 @@ import jax
 import jax.numpy as jnp
 
 LOG_STD_MIN, LOG_STD_MAX = -10.0, 2.0
+CLIPPED_LOG_STD_MIN = -20.0  # RL-X's policies clip the raw output to [-20, 2]
 
 
 class BatchRenorm(nn.Module):
@@ -93,6 +94,8 @@ class Actor(nn.Module):
     batch_renorm: bool = False
     renorm_momentum: float = 0.99
     renorm_warmup_steps: int = 100_000
+    log_std_clip: bool = False
+    """Clip the raw log-std to [-20, 2] instead of squashing it (see AgentConfig.log_std_clip)."""
 
     @nn.compact
     def __call__(self, obs, train: bool = False):
@@ -104,6 +107,8 @@ class Actor(nn.Module):
                 x = norm()(x, train)
         mean = nn.Dense(self.action_size)(x)
         log_std = nn.Dense(self.action_size)(x)
+        if self.log_std_clip:
+            return mean, jnp.clip(log_std, CLIPPED_LOG_STD_MIN, LOG_STD_MAX)
         # Squash log_std smoothly into its range so the gradient never dies at a clip.
         log_std = LOG_STD_MIN + 0.5 * (LOG_STD_MAX - LOG_STD_MIN) * (jnp.tanh(log_std) + 1)
         return mean, log_std
