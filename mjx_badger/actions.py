@@ -4,10 +4,11 @@ An action space is `init() -> state`, `step(state, action) -> (state, ctrl)` and
 `observe(state) -> (predicted (12,), extra (k,))`, the approach's own observation blocks
 of thesis Table 4.1. `ctrl` holds one PD target per actuator: 12, or 24 for the
 torque-averaging residual CPG, whose model drives every joint with two half-strength PD
-controllers (robot.load_model(split_pd=True)). The approaches of Table 5.2 are registered
-by name in `APPROACHES`.
+controllers (robot.load_model(split_pd=True)). The approaches of Table 5.2 are `Approach`
+records in `APPROACHES`: what they are (`kind`), how figures show them, how to build them.
 """
 
+import inspect
 from typing import Callable, NamedTuple
 
 import jax.numpy as jnp
@@ -48,7 +49,7 @@ class JTState(NamedTuple):
     target: jnp.ndarray  # (12,) the last joint targets sent
 
 
-def joint_targets(name: str, filt: filters.Filter, spec: robot.RobotSpec = robot.HB40) -> ActionSpace:
+def joint_targets(filt: filters.Filter, spec: robot.RobotSpec = robot.HB40) -> ActionSpace:
     """JT (§4.2): nominal pose + action scaled to +-[0.2, 0.4, 0.4], then filtered."""
     nominal = jnp.asarray(robot.nominal_pose(spec))
     scale = jnp.asarray(robot.jt_action_scale(spec))
@@ -63,17 +64,18 @@ def joint_targets(name: str, filt: filters.Filter, spec: robot.RobotSpec = robot
     def observe(state):
         return state.target - nominal, jnp.zeros(0)
 
-    return ActionSpace(name=name, size=robot.NUM_JOINTS, init=lambda: JTState(filt.init(nominal), nominal),
+    return ActionSpace(name="jt", size=robot.NUM_JOINTS, init=lambda: JTState(filt.init(nominal), nominal),
                        step=step, observe=observe, predicted_name="joint_angle", spec=spec)
 
 
-def jt_filter(kind: str, dt: float, protocol: Protocol) -> filters.Filter:
-    """The filter of a JT approach ('none', 'lowpass', 'one_euro') under a protocol."""
+def jt_filter(kind: str, dt: float, protocol: Protocol, **params) -> filters.Filter:
+    """The filter of a JT approach ('none', 'lowpass', 'one_euro') under a protocol, with its parameters."""
     if kind == "lowpass":
-        return filters.make_filter("butterworth" if protocol.lowpass == "butterworth" else "lowpass", dt)
+        return filters.make_filter("butterworth" if protocol.lowpass == "butterworth" else "lowpass", dt, **params)
     if kind == "one_euro":
-        return filters.make_filter("one_euro", dt, start_at_first_input=protocol.one_euro_first_output_is_input)
-    return filters.make_filter(kind, dt)
+        return filters.make_filter("one_euro", dt, start_at_first_input=protocol.one_euro_first_output_is_input,
+                                   **params)
+    return filters.make_filter(kind, dt, **params)
 
 
 # Thesis §4.3: foot offsets within +-0.15 m in x and y, +-0.1 m in z; frequency in [1, 4] Hz;
@@ -98,7 +100,7 @@ class CPGActionState(NamedTuple):
     heights: jnp.ndarray  # (2,) the last swing heights of the two leg pairs (thesis-code's observation)
 
 
-def central_pattern(name: str, dt: float, variable_frequency: bool = False, residual: str | None = None,
+def central_pattern(dt: float, variable_frequency: bool = False, residual: str | None = None,
                     protocol: Protocol = protocols.THESIS_CODE) -> ActionSpace:
     """CPG (§4.3): trot foot heights + predicted offsets, through inverse kinematics.
 
@@ -166,14 +168,53 @@ def central_pattern(name: str, dt: float, variable_frequency: bool = False, resi
         # The released code's first CPG observation is literally [0, pi] (environment.py).
         return CPGActionState(cpg.init(), nominal_feet, jnp.zeros(12), jnp.array([0.0, jnp.pi]))
 
-    return ActionSpace(name=name, size=size, init=init, step=step, observe=observe,
+    return ActionSpace(name="cpg", size=size, init=init, step=step, observe=observe,
                        predicted_name="joint_angle" if code else "feet_position", extra_size=2,
                        split_pd=residual == "torque-average")
 
 
+class Approach(NamedTuple):
+    """A registered action space: what it is, how figures show it, and how to build it."""
+
+    name: str
+    kind: str
+    """'jt' (joint targets) or 'cpg' (central pattern generator): the protocol's gains and rate per kind."""
+    label: str
+    """Display name in figures and tables."""
+    color: str
+    """Matplotlib colour in figures."""
+    build: Callable
+    """(dt, protocol, spec, **params) -> ActionSpace."""
+    params: tuple = ()
+    """Names of the keyword parameters `build` takes (sweepable values such as a filter cutoff)."""
+
+
+KINDS = ("jt", "cpg")
+APPROACHES: dict = {}
+
+
+def register(approach: Approach) -> Approach:
+    """Add `approach` to APPROACHES (replacing one of the same name)."""
+    if approach.kind not in KINDS:
+        raise ValueError(f"approach {approach.name!r}: kind {approach.kind!r} is not one of {KINDS}")
+    APPROACHES[approach.name] = approach
+    return approach
+
+
+def filter_params(make: Callable) -> tuple:
+    """The keyword parameters of a filter factory after its control period."""
+    return tuple(inspect.signature(make).parameters)[1:]
+
+
+def filter_approach(name: str, label: str, color: str, make: Callable) -> Approach:
+    """A JT approach whose filter is `make(dt, **params)`: a new filter is one `register(filter_approach(...))`."""
+    return Approach(name, "jt", label, color, lambda dt, protocol, spec, **params: joint_targets(make(dt, **params), spec),
+                    filter_params(make))
+
+
 def is_cpg(approach: str) -> bool:
     """Whether `approach` drives the legs through the central pattern generator."""
-    return approach.startswith("cpg")
+    return APPROACHES[approach].kind == "cpg"
 
 
 def check_robot(approach: str, spec: robot.RobotSpec):
@@ -182,20 +223,38 @@ def check_robot(approach: str, spec: robot.RobotSpec):
         raise ValueError(f"the CPG approaches run on the {robot.HB40.name} only, not on {spec.name}")
 
 
-APPROACHES = {
-    "jt-nf": lambda dt, p, spec: joint_targets("jt-nf", jt_filter("none", dt, p), spec),
-    "jt-lpf": lambda dt, p, spec: joint_targets("jt-lpf", jt_filter("lowpass", dt, p), spec),
-    "jt-oef": lambda dt, p, spec: joint_targets("jt-oef", jt_filter("one_euro", dt, p), spec),
-    "cpg-d": lambda dt, p, spec: central_pattern("cpg-d", dt, protocol=p),
-    "cpg-vf": lambda dt, p, spec: central_pattern("cpg-vf", dt, variable_frequency=True, protocol=p),
-    "cpg-rt": lambda dt, p, spec: central_pattern("cpg-rt", dt, residual=p.cpg_residual, protocol=p),
-    "cpg-rt-avg": lambda dt, p, spec: central_pattern("cpg-rt-avg", dt, residual="angle-average", protocol=p),
-    "cpg-rt-sum": lambda dt, p, spec: central_pattern("cpg-rt-sum", dt, residual="angle-sum", protocol=p),
-}
+def check_params(approach: str, params: dict):
+    """Raise ValueError for a parameter `approach` does not take, naming the ones it does."""
+    unknown = sorted(set(params) - set(APPROACHES[approach].params))
+    if unknown:
+        takes = ", ".join(APPROACHES[approach].params) or "no parameters"
+        raise ValueError(f"approach {approach!r} takes {takes}, not {', '.join(unknown)}")
+
+
+def _jt(kind: str):
+    return lambda dt, protocol, spec, **params: joint_targets(jt_filter(kind, dt, protocol, **params), spec)
+
+
+for _approach in (
+    Approach("jt-nf", "jt", "JT-NF", "tab:red", _jt("none")),
+    Approach("jt-lpf", "jt", "JT-LPF", "tab:blue", _jt("lowpass"), ("cutoff_hz",)),
+    Approach("jt-oef", "jt", "JT-OEF", "tab:green", _jt("one_euro"), ("min_cutoff", "beta", "d_cutoff")),
+    Approach("cpg-d", "cpg", "CPG-D", "tab:purple", lambda dt, p, spec: central_pattern(dt, protocol=p)),
+    Approach("cpg-vf", "cpg", "CPG-VF", "tab:orange",
+             lambda dt, p, spec: central_pattern(dt, variable_frequency=True, protocol=p)),
+    Approach("cpg-rt", "cpg", "CPG-RT", "tab:brown",
+             lambda dt, p, spec: central_pattern(dt, residual=p.cpg_residual, protocol=p)),
+    Approach("cpg-rt-avg", "cpg", "CPG-RT-avg", "tab:pink",
+             lambda dt, p, spec: central_pattern(dt, residual="angle-average", protocol=p)),
+    Approach("cpg-rt-sum", "cpg", "CPG-RT-sum", "tab:gray",
+             lambda dt, p, spec: central_pattern(dt, residual="angle-sum", protocol=p)),
+):
+    register(_approach)
 
 
 def make_action_space(approach: str, dt: float, protocol: Protocol = protocols.THESIS_CODE,
-                      spec: robot.RobotSpec = robot.HB40) -> ActionSpace:
+                      spec: robot.RobotSpec = robot.HB40, **params) -> ActionSpace:
     """The action pipeline of `approach` at control period `dt` under `protocol`, on the robot `spec`."""
     check_robot(approach, spec)
-    return APPROACHES[approach](dt, protocol, spec)
+    check_params(approach, params)
+    return APPROACHES[approach].build(dt, protocol, spec, **params)._replace(name=approach)

@@ -101,7 +101,7 @@ class HB40Env(Env):
     """The HB40 on flat ground with one approach (action pipeline) and one task."""
 
     def __init__(self, approach: str = "jt-nf", task: "str | tasks.Task" = "forward", config: EnvConfig | None = None,
-                 spec: robot.RobotSpec = robot.HB40):
+                 spec: robot.RobotSpec = robot.HB40, approach_params: tuple = ()):
         self.config = EnvConfig() if config is None else config
         self.protocol = self.config.protocol
         self.spec = spec
@@ -111,7 +111,8 @@ class HB40Env(Env):
         self.episode_steps = int(round(self.protocol.episode_seconds / self.control_dt))
         self.is_cpg = actions.is_cpg(approach)
         self.terminates = self.protocol.cpg_terminates or not self.is_cpg
-        self.action_space = actions.make_action_space(approach, self.control_dt, self.protocol, spec)
+        self.action_space = actions.make_action_space(approach, self.control_dt, self.protocol, spec,
+                                                      **dict(approach_params))
         if isinstance(task, str):
             task = tasks.make_task(task, self.protocol.rewards, self.protocol.curriculum)
         self.task = task

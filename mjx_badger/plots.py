@@ -10,13 +10,23 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from mjx_badger import results  # noqa: E402
+from mjx_badger.actions import APPROACHES  # noqa: E402
+from mjx_badger.agents.config import ALGORITHMS  # noqa: E402
 from mjx_badger.experiments import EXPERIMENTS, Experiment, result_name  # noqa: E402
 
-COLORS = {"jt-nf": "tab:red", "jt-lpf": "tab:blue", "jt-oef": "tab:green",
-          "cpg-d": "tab:purple", "cpg-vf": "tab:orange", "cpg-rt": "tab:brown",
-          "sac": "tab:gray", "sac-utd20": "tab:olive", "droq": "tab:cyan", "crossq": "tab:red"}
-NAMES = {"jt-nf": "JT-NF", "jt-lpf": "JT-LPF", "jt-oef": "JT-OEF", "cpg-d": "CPG-D", "cpg-vf": "CPG-VF",
-         "cpg-rt": "CPG-RT", "sac": "SAC", "sac-utd20": "SAC-UTD20", "droq": "DroQ", "crossq": "CrossQ"}
+
+def display_name(name: str) -> str:
+    """How figures and tables name an approach or algorithm (their registries), else the name itself."""
+    entry = APPROACHES.get(name) or ALGORITHMS.get(name)
+    return name if entry is None else entry.label
+
+
+def display_color(name: str) -> str | None:
+    """The colour of an approach or algorithm in figures (their registries); None lets matplotlib choose."""
+    entry = APPROACHES.get(name) or ALGORITHMS.get(name)
+    return None if entry is None else entry.color
+
+
 LEGS = ("FL", "FR", "RL", "RR")
 DIRECTIONS = ("forward", "backward", "left", "right")
 REACHED_FRACTION = 0.9
@@ -145,7 +155,7 @@ def curve_panel(ax, documents: dict, metric: str, title: str, ylabel: str, x_axi
     """One panel of learning curves: `metric` of every run that has it."""
     for label, document in documents.items():
         if metric in document["metrics"]:
-            _band(ax, _x(document, x_axis), series(document, metric), COLORS.get(label), NAMES.get(label, label),
+            _band(ax, _x(document, x_axis), series(document, metric), display_color(label), display_name(label),
                   style)
     if target is not None:
         ax.axhline(target, color="k", ls="--", lw=1, label=f"target {target} m/s")
@@ -188,14 +198,14 @@ def gait_figure(experiment: Experiment, documents: dict, out: Path, profile: str
         t = np.arange(len(contacts)) * dt
         for leg in range(4):
             on = contacts[:, leg] > 0
-            contact_ax.fill_between(t, leg - 0.4, leg + 0.4, where=on, color=COLORS.get(label), step="post", lw=0)
+            contact_ax.fill_between(t, leg - 0.4, leg + 0.4, where=on, color=display_color(label), step="post", lw=0)
         contact_ax.set_yticks(range(4), LEGS)
         contact_ax.set_ylim(3.6, -0.6)
         thesis_hz = experiment.thesis_numbers.get(label, {}).get("gait_hz")
-        contact_ax.set_title(f"{NAMES.get(label, label)}: gait {gait_frequency(contacts, dt):.1f} Hz"
+        contact_ax.set_title(f"{display_name(label)}: gait {gait_frequency(contacts, dt):.1f} Hz"
                              + (f" (thesis ~{thesis_hz} Hz)" if thesis_hz else ""), fontsize=9, loc="left")
         velocity = np.asarray(gait["forward_velocity"][0])[-window:]
-        velocity_ax.plot(t, velocity, color=COLORS.get(label), lw=1.2)
+        velocity_ax.plot(t, velocity, color=display_color(label), lw=1.2)
         if target is not None:
             velocity_ax.axhline(target, color="k", ls="--", lw=0.8)
             velocity_ax.fill_between(t, velocity, target, where=velocity < target, color="tab:red", alpha=0.3, lw=0)
@@ -237,9 +247,9 @@ def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: 
     """Fig 5.3-style: forward velocity (training, evaluation) and falls vs steps."""
     def thesis_item(a, n):
         steps = n["steps_to_target"]
-        return f"{NAMES[a]} {f'~{steps // 1000}k' if isinstance(steps, int) else steps}"
+        return f"{display_name(a)} {f'~{steps // 1000}k' if isinstance(steps, int) else steps}"
     thesis = ", ".join(thesis_item(a, n) for a, n in experiment.thesis_numbers.items()) + " steps; falls " + ", ".join(
-        f"{NAMES[a]} {n['falls']}" for a, n in experiment.thesis_numbers.items())
+        f"{display_name(a)} {n['falls']}" for a, n in experiment.thesis_numbers.items())
     panels = (("train/forward_velocity", "training (mean over each 1k-step chunk)", "forward velocity [m/s]"),
               ("eval/forward_velocity", "deterministic evaluation after each chunk", "forward velocity [m/s]"),
               ("train/falls", "falls during training (cumulative)", "falls"))
@@ -249,7 +259,7 @@ def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: 
 
 def forward_max_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
     """Fig 5.6-style: forward velocity, lateral velocity and falls under the maximal-velocity reward."""
-    thesis = ", ".join(f"{NAMES[a]} {n['max_velocity']}" for a, n in experiment.thesis_numbers.items())
+    thesis = ", ".join(f"{display_name(a)} {n['max_velocity']}" for a, n in experiment.thesis_numbers.items())
     panels = (("train/forward_velocity", "forward velocity (training)", "forward velocity [m/s]"),
               ("train/lateral_velocity", "lateral velocity (training)", "lateral velocity [m/s]"),
               ("train/falls", "falls during training (cumulative)", "falls"))
@@ -265,7 +275,7 @@ def omni_figure(experiment: Experiment, documents: dict, out: Path, profile: str
               ("train/falls", "falls during training (cumulative)", "falls")]
     if any("curriculum/learned_bins" in d["metrics"] for d in documents.values()):
         panels.append(("curriculum/learned_bins", "curriculum: bins learned (of 10)", "bins"))
-    note = "; ".join(f"{NAMES[a]}: {n.get('finding', '')}{', MAE ~%s' % n['desired_mae'] if 'desired_mae' in n else ''}"
+    note = "; ".join(f"{display_name(a)}: {n.get('finding', '')}{', MAE ~%s' % n['desired_mae'] if 'desired_mae' in n else ''}"
                      f" ({n['falls']} falls)" for a, n in experiment.thesis_numbers.items())
     title = ("Omnidirectional locomotion, random commands" if experiment.name == "omni-random"
              else "Omnidirectional locomotion with the PDEC curriculum")
@@ -308,7 +318,7 @@ def _thesis(numbers: dict, key: str, fmt="~{}"):
 
 def _run_cells(label: str, s: dict) -> str:
     """'| name | seeds x steps' of a table row, marked when the run is incomplete."""
-    return f"| {NAMES.get(label, label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'}"
+    return f"| {display_name(label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'}"
 
 
 def _falls_cell(s: dict, thesis: dict) -> str:
@@ -339,7 +349,7 @@ def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> st
         theirs = f"~{fmt.format(theirs)}" if isinstance(theirs, (int, float)) else theirs
         size = f"{s['seeds']} x {s['steps']:,}" + (f" ({s['minutes']:.1f})" if by_minutes else "")
         lines.append(
-            f"| {NAMES.get(label, label)} | {size}{'' if s['complete'] else ' (incomplete)'} | {ours} / {theirs} "
+            f"| {display_name(label)} | {size}{'' if s['complete'] else ' (incomplete)'} | {ours} / {theirs} "
             f"| {s['final_velocity']:.2f} m/s | {_value(s['final_eval_velocity'])} m/s "
             f"| {_falls_cell(s, thesis)} | {s['falls_after_warmup_mean']:.1f} | {_gait_cell(s, thesis)} |")
     return "\n".join(lines) + "\n"
@@ -415,12 +425,12 @@ def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
     falls_ax = axes[5]
     experiments = [n for n in ("forward", "forward-max", "omni-random", "omni-pdec") if loaded.get(n)]
     width = 0.8 / max(len(experiments), 1)
-    approaches = [a for a in NAMES if any(a in loaded[n] for n in experiments)]
+    approaches = [a for a in APPROACHES if any(a in loaded[n] for n in experiments)]
     for i, name in enumerate(experiments):
         means = [summarize(loaded[name][a], None)["falls_mean"] if a in loaded[name] else np.nan for a in approaches]
         falls_ax.bar(np.arange(len(approaches)) + i * width, means, width, label=name)
     falls_ax.set_xticks(np.arange(len(approaches)) + width * (len(experiments) - 1) / 2,
-                        [NAMES[a] for a in approaches], fontsize=8)
+                        [display_name(a) for a in approaches], fontsize=8)
     falls_ax.set_title("falls during training, mean over seeds", fontsize=10)
     falls_ax.legend(fontsize=7)
     falls_ax.grid(alpha=0.3, axis="y")

@@ -42,6 +42,8 @@ class TrainConfig:
     """'thesis-code' (as the released code ran it) or 'thesis-text' (as the thesis reads); protocols.py."""
     protocol_changes: tuple = ()
     """One-factor swaps: ((field, value), ...) applied to the protocol (attribution runs)."""
+    approach_params: tuple = ()
+    """The approach's keyword parameters as ((name, value), ...), e.g. (("cutoff_hz", 2.0),) for JT-LPF."""
     robot: str = "hb40"
     """The robot description (robot.ROBOTS): 'hb40', the thesis code's, or 'hb40-v1', this suite's first."""
     env: EnvConfig | None = None
@@ -58,6 +60,7 @@ class TrainConfig:
             if value not in valid:
                 raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
         self.protocol_spec  # unknown protocol fields raise here
+        actions.check_params(self.approach, dict(self.approach_params))
         actions.check_robot(self.approach, robot.ROBOTS[self.robot])
         if self.warmup_steps >= self.total_steps:
             raise ValueError(f"warm-up ({self.warmup_steps} steps) must be shorter than the run ({self.total_steps})")
@@ -109,7 +112,7 @@ def make_train(config: TrainConfig) -> Trainer:
     config.validate()
     cfg = config.agent_config
     protocol = config.protocol_spec
-    env = HB40Env(config.approach, config.task, config.env_config, robot.ROBOTS[config.robot])
+    env = HB40Env(config.approach, config.task, config.env_config, robot.ROBOTS[config.robot], config.approach_params)
     agent = make_agent(cfg, env.observation_size, env.action_size)
     capacity = config.num_chunks * config.chunk_steps
 

@@ -1,6 +1,7 @@
 """Algorithm configurations (thesis Table 4.3; CrossQ paper defaults where it is silent)."""
 
 import dataclasses
+from typing import Callable, NamedTuple
 
 
 @dataclasses.dataclass(frozen=True)
@@ -89,4 +90,20 @@ def crossq() -> AgentConfig:
     )
 
 
-ALGORITHMS = {"sac": sac, "sac-utd20": sac_utd20, "droq": droq, "crossq": crossq}
+class Algorithm(NamedTuple):
+    """A registered algorithm: its configuration factory and how figures show it; calling it builds the config."""
+
+    config: Callable
+    label: str
+    color: str
+
+    def __call__(self) -> AgentConfig:
+        return self.config()
+
+
+ALGORITHMS = {
+    "sac": Algorithm(sac, "SAC", "tab:gray"),
+    "sac-utd20": Algorithm(sac_utd20, "SAC-UTD20", "tab:olive"),
+    "droq": Algorithm(droq, "DroQ", "tab:cyan"),
+    "crossq": Algorithm(crossq, "CrossQ", "tab:red"),
+}

@@ -2,5 +2,8 @@
 
 `interface` is the robot protocol (the only thing the loop knows about a robot), `simulated`
 the HB40 behind it in native MuJoCo, `estimation` the velocity estimator, `safety` the
-monitor, `loop` the 40 Hz control loop with its concurrent learner.
+monitor, `scheduling` the control thread's priority and memory lock. `loop.run` is a run:
+`config` its settings, `control` the jitted tick and the 40 Hz episodes, `learner` the
+concurrent learner on `replay`, `checkpoint` stop and resume, `report` the results document
+and trace (their schema), `view` the live terminal line.
 """

@@ -1,0 +1,72 @@
+"""A newcomer's extensions, registered from this module alone: a filter, an algorithm variant, a task."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from conftest import seed_keys
+from mjx_badger import actions, filters, plots, tasks
+from mjx_badger.agents import ALGORITHMS
+from mjx_badger.agents.config import Algorithm, crossq
+from mjx_badger.train import TrainConfig, make_train
+
+
+def moving_average(dt: float, weight: float = 0.5) -> filters.Filter:
+    """The toy filter: y = weight x + (1 - weight) y_prev, from rest at the first target."""
+    return filters.Filter(init=lambda x0: jnp.asarray(x0), step=lambda y, x: (weight * x + (1 - weight) * y,) * 2)
+
+
+@pytest.fixture
+def toys():
+    """Register the toys the way the README says, and take them out again afterwards."""
+    actions.register(actions.filter_approach("jt-toy", "JT-TOY", "tab:olive", moving_average))
+    ALGORITHMS["toy-crossq"] = Algorithm(lambda: crossq().replace(name="toy-crossq", hidden=(16, 16)), "Toy", "k")
+    tasks.TASKS["slow-walk"] = lambda form, rules: tasks.forward(0.2, form=form)
+    yield
+    del actions.APPROACHES["jt-toy"], ALGORITHMS["toy-crossq"], tasks.TASKS["slow-walk"]
+
+
+def test_registered_toys_train_a_smoke_run_and_show_in_figures(toys):
+    config = TrainConfig(approach="jt-toy", algo="toy-crossq", task="slow-walk", total_steps=150, chunk_steps=50,
+                         warmup_steps=100, eval_steps=20, approach_params=(("weight", 0.25),))
+    config.validate()
+    trainer = make_train(config)
+    assert trainer.env.action_space.name == "jt-toy"
+    carry = jax.jit(jax.vmap(trainer.init))(seed_keys([0, 1]))
+    chunk = jax.jit(jax.vmap(trainer.chunk, in_axes=(0, None)))
+    for index in range(config.num_chunks):
+        carry, metrics = chunk(carry, index * config.chunk_steps)
+    assert np.all(np.asarray(carry.agent_state.updates) == 50)
+    assert np.isfinite(np.asarray(metrics["train/forward_velocity"])).all()
+    assert plots.display_name("jt-toy") == "JT-TOY" and plots.display_name("toy-crossq") == "Toy"
+    assert not actions.is_cpg("jt-toy")
+
+
+def test_an_approach_parameter_reaches_its_filter_and_unknown_ones_are_named(toys):
+    """weight 1 passes the target straight through; weight 0.25 moves a quarter of the way from rest."""
+    outputs = {}
+    for weight in (1.0, 0.25):
+        space = actions.make_action_space("jt-toy", 0.02, weight=weight)
+        _, ctrl = space.step(space.init(), jnp.ones(space.size))
+        outputs[weight] = np.asarray(ctrl - space.rest_ctrl())
+    np.testing.assert_allclose(outputs[0.25], 0.25 * outputs[1.0], rtol=1e-5)
+    with pytest.raises(ValueError, match="takes weight, not cutoff"):
+        TrainConfig(approach="jt-toy", approach_params=(("cutoff", 1.0),)).validate()
+    with pytest.raises(ValueError, match="takes cutoff_hz, not weight"):
+        TrainConfig(approach="jt-lpf", approach_params=(("weight", 1.0),)).validate()
+
+
+def test_the_low_pass_cutoff_is_a_parameter():
+    """A higher cutoff lets more of a step through in one control period."""
+    first = {}
+    for cutoff in (1.0, 8.0):
+        space = actions.make_action_space("jt-lpf", 0.02, cutoff_hz=cutoff)
+        _, ctrl = space.step(space.init(), jnp.ones(space.size))
+        first[cutoff] = float(jnp.abs(ctrl - space.rest_ctrl()).max())
+    assert 0 < first[1.0] < first[8.0]
+
+
+def test_a_kind_outside_jt_and_cpg_is_refused():
+    with pytest.raises(ValueError, match="kind 'wheel' is not one of"):
+        actions.register(actions.Approach("wheels", "wheel", "W", "k", lambda dt, p, spec: None))
