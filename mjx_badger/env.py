@@ -77,8 +77,8 @@ CODE_POWER_STEPS = 3
 
 
 def roll_pitch(rot):
-    """Roll and pitch (rad) of a body-to-world rotation matrix (3, 3)."""
-    return jnp.arctan2(rot[2, 1], rot[2, 2]), jnp.arcsin(jnp.clip(-rot[2, 0], -1.0, 1.0))
+    """Roll and pitch (rad) of a body-to-world rotation matrix (3, 3), traced (robot.roll_pitch)."""
+    return robot.roll_pitch(rot, jnp)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -306,29 +306,26 @@ class HB40Env(Env):
         else:
             acceleration, angular_velocity = data.sensordata[self._accel], gyro
             angular_acceleration = (gyro - prev_gyro) / self.control_dt
-        predicted, extra = self.action_space.observe(action_state)
-        obs = jnp.concatenate([data.qpos[7:] - self._nominal, data.qvel[6:], predicted, acceleration,
-                               angular_acceleration, linear_velocity, angular_velocity, command, gravity, extra])
+        obs = self._assemble(data.qpos[7:], data.qvel[6:], action_state, acceleration, angular_acceleration,
+                             linear_velocity, angular_velocity, command, gravity)
         applied = torque if self.protocol.rewards == "thesis-code" else data.qfrc_actuator[6:]
         motion = tasks.Motion(linear_velocity, angular_velocity, roll, pitch, applied)
-        return obs * self._obs_scale, motion
+        return obs, motion
 
     def observation(self, joint_angle, joint_velocity, action_state, acceleration, angular_velocity,
                     prev_angular_velocity, linear_velocity, command, gravity):
         """The thesis-text observation from measured quantities, as the on-robot loop builds it."""
+        angular_acceleration = (angular_velocity - prev_angular_velocity) / self.control_dt
+        return self._assemble(joint_angle, joint_velocity, action_state, acceleration, angular_acceleration,
+                              linear_velocity, angular_velocity, command, gravity)
+
+    def _assemble(self, joint_angle, joint_velocity, action_state, acceleration, angular_acceleration,
+                  linear_velocity, angular_velocity, command, gravity):
+        """The scaled observation vector in the order of `observation_layout`, from its quantities."""
         predicted, extra = self.action_space.observe(action_state)
-        return jnp.concatenate([
-            joint_angle - self._nominal,
-            joint_velocity,
-            predicted,
-            acceleration,
-            (angular_velocity - prev_angular_velocity) / self.control_dt,
-            linear_velocity,
-            angular_velocity,
-            command,
-            gravity,
-            extra,
-        ]) * self._obs_scale
+        return jnp.concatenate([joint_angle - self._nominal, joint_velocity, predicted, acceleration,
+                                angular_acceleration, linear_velocity, angular_velocity, command, gravity,
+                                extra]) * self._obs_scale
 
     def _metric_names(self):
         names = [f"reward/{name}" for name in self.task.weights]

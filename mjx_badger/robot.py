@@ -28,6 +28,11 @@ FRONT_SIGN = np.array([1.0, 1.0, -1.0, -1.0])
 LEFT_SIGN = np.array([1.0, -1.0, 1.0, -1.0])
 
 
+def roll_pitch(rot, xp=np):
+    """Roll and pitch (rad) of a body-to-world rotation matrix (3, 3); `xp` is numpy or jax.numpy."""
+    return xp.arctan2(rot[2, 1], rot[2, 2]), xp.arcsin(xp.clip(-rot[2, 0], -1.0, 1.0))
+
+
 @dataclasses.dataclass(frozen=True)
 class RobotSpec:
     """Every figure of a quadruped of the HB40's layout; lengths in m, masses in kg, inertias in kg m^2."""

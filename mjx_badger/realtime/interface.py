@@ -10,6 +10,8 @@ from typing import Protocol
 
 import numpy as np
 
+from mjx_badger import robot
+
 
 @dataclasses.dataclass(frozen=True)
 class Sensors:
@@ -64,7 +66,6 @@ def rotation_matrix(quaternion: np.ndarray) -> np.ndarray:
 
 
 def roll_pitch(rotation: np.ndarray) -> tuple[float, float]:
-    """Roll and pitch (rad) of a trunk-to-world rotation, as the environment computes them."""
-    roll = float(np.arctan2(rotation[2, 1], rotation[2, 2]))
-    pitch = float(np.arcsin(np.clip(-rotation[2, 0], -1.0, 1.0)))
-    return roll, pitch
+    """Roll and pitch (rad) of a trunk-to-world rotation, by the environment's own rule (robot.roll_pitch)."""
+    roll, pitch = robot.roll_pitch(rotation)
+    return float(roll), float(pitch)
