@@ -239,6 +239,15 @@ def train_command(args, config) -> int:
     return 0
 
 
+def overall_progress(index: int, runs: int, done: float, total: float, elapsed_s: float) -> str:
+    """'run i of n, p % of the work done, ~t left': the ETA at the rate measured so far (none before a run ends)."""
+    line = f"run {index + 1} of {runs}, {100 * done / max(total, 1):.0f} % of the gradient updates done"
+    if done > 0 and elapsed_s > 0:
+        left_h = (total - done) * elapsed_s / done / 3600
+        line += f", ~{left_h:.1f} h left at the rate so far"
+    return line
+
+
 def reproduce_command(args) -> int:
     from mjx_badger import claims, plots, results, runner
 
@@ -254,12 +263,15 @@ def reproduce_command(args) -> int:
                 print(f"skip {path}: complete results of this configuration exist (--force reruns)")
                 continue
             todo.append((experiment, run, path))
-    updates = sum(experiment.steps(run, args.profile) * ALGORITHMS[run.algo]().updates_per_step
-                  for experiment, run, _ in todo) * profile.seeds
+    work = [experiment.steps(run, args.profile) * ALGORITHMS[run.algo]().updates_per_step * profile.seeds
+            for experiment, run, _ in todo]
+    updates = sum(work)
     print(f"profile {args.profile}, protocol {args.protocol}: {len(todo)} runs x {profile.seeds} seeds, {updates:,} gradient updates in all; "
           f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1 min compile per run")
     started = time.perf_counter()
-    for experiment, run, path in todo:
+    for index, (experiment, run, path) in enumerate(todo):
+        print(overall_progress(index, len(todo), sum(work[:index]), updates, time.perf_counter() - started),
+              flush=True)
         config = experiment.train_config(run, args.profile, args.protocol)
         seeds = list(range(profile.seeds))
         twin = _same_run(folder, config, seeds)

@@ -122,3 +122,11 @@ def test_realtime_refuses_what_a_robot_cannot_run(capsys):
     assert "planned contacts" in _fails(capsys, ["realtime", "--approach", "jt-oef", "--planned-contacts"])
     assert "--warmup-steps" in _fails(capsys, ["realtime", "--steps", "100", "--warmup-steps", "200"])
     assert "control rate" in _fails(capsys, ["realtime", "--control-hz", "500"])
+
+
+def test_reproduce_reports_overall_progress_with_an_eta_from_the_measured_rate():
+    from mjx_badger.cli import overall_progress
+
+    assert overall_progress(0, 4, 0, 100, 0.0) == "run 1 of 4, 0 % of the gradient updates done"
+    # A quarter of the work in 0.5 h: the other three quarters take 1.5 h.
+    assert overall_progress(1, 4, 25, 100, 1800.0).endswith("25 % of the gradient updates done, ~1.5 h left at the rate so far")
