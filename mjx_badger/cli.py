@@ -158,9 +158,8 @@ def main(argv=None) -> int:
             parser.error(f"--warmup-steps ({args.warmup_steps}) must be smaller than --steps ({args.steps})")
         if args.chunk_steps > args.steps:
             parser.error(f"--chunk-steps ({args.chunk_steps}) must not exceed --steps ({args.steps})")
-        config = train_config(args)
         try:
-            config.validate()
+            config = train_config(args)  # checked when built
         except ValueError as error:
             parser.error(str(error))
         writable_dir(parser, args.out, "output folder")
@@ -168,12 +167,11 @@ def main(argv=None) -> int:
     if args.command == "realtime":
         from mjx_badger.realtime.loop import RealtimeConfig
 
-        config = RealtimeConfig(approach=args.approach, algo=args.algo, task=args.task, steps=args.steps,
-                                warmup_steps=args.warmup_steps, control_hz=args.control_hz,
-                                target_velocity=args.target_velocity, planned_contacts=args.planned_contacts,
-                                unthrottled=args.unthrottled, seed=args.seed)
-        try:
-            config.validate()
+        try:  # checked when built
+            config = RealtimeConfig(approach=args.approach, algo=args.algo, task=args.task, steps=args.steps,
+                                    warmup_steps=args.warmup_steps, control_hz=args.control_hz,
+                                    target_velocity=args.target_velocity, planned_contacts=args.planned_contacts,
+                                    unthrottled=args.unthrottled, seed=args.seed)
         except ValueError as error:
             parser.error(str(error))
         if args.warmup_steps >= args.steps:

@@ -7,6 +7,7 @@ after every step, `progress(state) -> metrics`, and `reward(motion, command) -> 
 weighted terms)`. `eval_commands` are the fixed commands of the deterministic evaluation.
 """
 
+import inspect
 from typing import Callable, NamedTuple
 
 import jax
@@ -162,14 +163,29 @@ def omni_pdec(speed: float = TARGET_VELOCITY, form: str = "thesis-text", rules: 
 
 
 TASKS = {
-    "forward": lambda form, rules: forward(form=form),
+    "forward": lambda form, rules, target_velocity=TARGET_VELOCITY: forward(target_velocity, form=form),
     "forward-max": lambda form, rules: forward_max(form=form),
-    "omni-random": lambda form, rules: omni_random(form=form),
-    "omni-random-rotated": lambda form, rules: omni_random(rotated=True, form=form),
-    "omni-pdec": lambda form, rules: omni_pdec(form=form, rules=rules),
+    "omni-random": lambda form, rules, speed=TARGET_VELOCITY: omni_random(speed, form=form),
+    "omni-random-rotated": lambda form, rules, speed=TARGET_VELOCITY: omni_random(speed, rotated=True, form=form),
+    "omni-pdec": lambda form, rules, speed=TARGET_VELOCITY: omni_pdec(speed, form=form, rules=rules),
 }
+"""Task name -> (reward form, curriculum rules, **params) -> Task; its keyword parameters are the task's."""
 
 
-def make_task(name: str, form: str = "thesis-text", curriculum_rules: str | None = None) -> Task:
+def task_params(name: str) -> tuple:
+    """The keyword parameters the task `name` takes after its reward form and curriculum rules."""
+    return tuple(inspect.signature(TASKS[name]).parameters)[2:]
+
+
+def check_params(name: str, params: dict):
+    """Raise ValueError for a parameter the task does not take, naming the ones it does."""
+    unknown = sorted(set(params) - set(task_params(name)))
+    if unknown:
+        raise ValueError(f"task {name!r} takes {', '.join(task_params(name)) or 'no parameters'}, "
+                         f"not {', '.join(unknown)}")
+
+
+def make_task(name: str, form: str = "thesis-text", curriculum_rules: str | None = None, **params) -> Task:
     """The task `name` with a protocol's reward forms and curriculum rules ('thesis-text' or 'thesis-code')."""
-    return TASKS[name](form, curriculum_rules)
+    check_params(name, params)
+    return TASKS[name](form, curriculum_rules, **params)

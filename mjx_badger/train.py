@@ -19,15 +19,13 @@ from mjx_badger.agents import ALGORITHMS, AgentConfig, AgentState, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
 from mjx_badger.protocols import Protocol
+from mjx_badger.spec import RunSpec
 
 
 @dataclasses.dataclass(frozen=True)
-class TrainConfig:
-    """One training run: what to train and for how long. Shapes follow from it."""
+class TrainConfig(RunSpec):
+    """One training run: what to train (RunSpec) and for how long. Shapes follow from it."""
 
-    approach: str = "jt-oef"
-    algo: str = "crossq"
-    task: str = "forward"
     total_steps: int = 50_000
     """Environment steps per seed, warm-up included (thesis: 50k)."""
     chunk_steps: int = 1_000
@@ -38,40 +36,20 @@ class TrainConfig:
     """Length of each deterministic evaluation run after every chunk."""
     gait_seconds: float = 4.0
     """Simulated seconds of the deterministic run after training; its second half is kept as the gait record."""
-    protocol: str = "thesis-code"
-    """'thesis-code' (as the released code ran it) or 'thesis-text' (as the thesis reads); protocols.py."""
-    protocol_changes: tuple = ()
-    """One-factor swaps: ((field, value), ...) applied to the protocol (attribution runs)."""
-    approach_params: tuple = ()
-    """The approach's keyword parameters as ((name, value), ...), e.g. (("cutoff_hz", 2.0),) for JT-LPF."""
-    robot: str = "hb40"
-    """The robot description (robot.ROBOTS): 'hb40', the thesis code's, or 'hb40-v1', this suite's first."""
     env: EnvConfig | None = None
     """Environment settings; None means the protocol's, at its rate for this approach and algorithm."""
     agent: AgentConfig | None = None
-    """Agent settings; None means the protocol's configuration of `algo`."""
+    """Agent settings; None means the protocol's configuration of `algo` with `algo_params`."""
 
     def validate(self) -> None:
         """Raise ValueError naming the valid choices for any unknown name, before anything compiles."""
-        for what, value, valid in (("approach", self.approach, actions.APPROACHES),
-                                   ("algorithm", self.algo, ALGORITHMS), ("task", self.task, tasks.TASKS),
-                                   ("protocol", self.protocol, protocols.PROTOCOLS),
-                                   ("robot", self.robot, robot.ROBOTS)):
-            if value not in valid:
-                raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
-        self.protocol_spec  # unknown protocol fields raise here
-        actions.check_params(self.approach, dict(self.approach_params))
-        actions.check_robot(self.approach, robot.ROBOTS[self.robot])
+        super().validate()
         if self.warmup_steps >= self.total_steps:
             raise ValueError(f"warm-up ({self.warmup_steps} steps) must be shorter than the run ({self.total_steps})")
 
     @property
-    def protocol_spec(self) -> Protocol:
-        return protocols.get(self.protocol, self.protocol_changes)
-
-    @property
     def agent_config(self) -> AgentConfig:
-        return self.protocol_spec.agent_config(self.algo) if self.agent is None else self.agent
+        return super().agent_config if self.agent is None else self.agent
 
     @property
     def env_config(self) -> EnvConfig:
@@ -112,7 +90,10 @@ def make_train(config: TrainConfig) -> Trainer:
     config.validate()
     cfg = config.agent_config
     protocol = config.protocol_spec
-    env = HB40Env(config.approach, config.task, config.env_config, robot.ROBOTS[config.robot], config.approach_params)
+    env_config = config.env_config
+    task = tasks.make_task(config.task, env_config.protocol.rewards, env_config.protocol.curriculum,
+                           **dict(config.task_params))
+    env = HB40Env(config.approach, task, env_config, robot.ROBOTS[config.robot], config.approach_params)
     agent = make_agent(cfg, env.observation_size, env.action_size)
     capacity = config.num_chunks * config.chunk_steps
 

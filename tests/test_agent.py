@@ -69,15 +69,16 @@ def test_crossq_critic_loss_decreases_on_a_fixed_batch(crossq):
     def run(state):
         def body(state, i):
             state, metrics = crossq.update(state, batch, jax.random.PRNGKey(2), i)
-            return state, metrics["critic_loss"]
+            return state, (metrics["critic_loss"], metrics["actor_loss"])
 
         return jax.lax.scan(body, state, jnp.arange(150))
 
-    state, losses = run(state)
+    state, (losses, actor_losses) = run(state)
     losses = np.asarray(losses)
     assert np.isfinite(losses).all()
     assert losses[-10:].mean() < 0.5 * losses[:10].mean(), f"critic loss {losses[:10].mean()} -> {losses[-10:].mean()}"
-    # Policy delay 3: the actor moved 50 times, the critic 150 times.
+    # Policy delay 3: the actor moved 50 times (a finite actor loss), the critic 150 times.
+    assert int(np.isfinite(np.asarray(actor_losses)).sum()) == 50
     assert int(state.updates) == 150
 
 
@@ -97,9 +98,13 @@ def test_actor_updates_only_every_policy_delay(crossq):
 
 
 def test_deterministic_action_is_tanh_of_mean_and_in_bounds(crossq):
+    from mjx_badger.agents.losses import actor_variables
+    from mjx_badger.agents.networks import Actor
+
     state = crossq.init(jax.random.PRNGKey(0))
     obs = jax.random.normal(jax.random.PRNGKey(1), (5, OBS)) * 10
     a = crossq.act(state, obs, None, deterministic=True)
     b = crossq.act(state, obs, jax.random.PRNGKey(2))
-    assert a.shape == b.shape == (5, ACT)
-    assert float(jnp.abs(b).max()) <= 1.0
+    mean, _ = Actor(ACT).apply(actor_variables(state.actor_params, state.actor_stats), obs)
+    np.testing.assert_allclose(np.asarray(a), np.tanh(np.asarray(mean)), atol=1e-6)
+    assert a.shape == b.shape == (5, ACT) and float(jnp.abs(b).max()) <= 1.0

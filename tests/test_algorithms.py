@@ -131,7 +131,11 @@ def test_target_network_moves_by_tau_per_update():
     expected = jax.tree.map(lambda c, t: cfg.tau * c + (1 - cfg.tau) * t, new.critic_params, state.target_params)
     for got, want in zip(jax.tree.leaves(new.target_params), jax.tree.leaves(expected)):
         np.testing.assert_allclose(got, want, rtol=1e-6, atol=1e-7)
-    assert ALGORITHMS["crossq"]().target_network is False and agent.init(jax.random.PRNGKey(0)).target_params is not None
+    # CrossQ keeps no target critic at all: its state carries none and an update leaves it so.
+    crossq = make_agent(ALGORITHMS["crossq"]().replace(hidden=(8,), batch_size=4), 2, 1)
+    crossq_state = crossq.init(jax.random.PRNGKey(0))
+    assert crossq_state.target_params is None
+    assert jax.jit(crossq.update)(crossq_state, BATCH, jax.random.PRNGKey(1), 0)[0].target_params is None
 
 
 def test_dropout_is_active_only_in_training():

@@ -3,17 +3,17 @@
 import dataclasses
 
 from mjx_badger import robot, tasks
-from mjx_badger.actions import APPROACHES, is_cpg
-from mjx_badger.agents import ALGORITHMS, AgentConfig
+from mjx_badger.actions import is_cpg
+from mjx_badger.agents import AgentConfig
+from mjx_badger.spec import RunSpec
 
 
 @dataclasses.dataclass(frozen=True)
-class RealtimeConfig:
-    """One on-robot training run."""
+class RealtimeConfig(RunSpec):
+    """One on-robot training run: what it trains (RunSpec, under thesis-text) and how the loop runs."""
 
-    approach: str = "jt-oef"
-    algo: str = "crossq"
-    task: str = "forward"
+    protocol: str = "thesis-text"
+    """The on-robot loop observes as a robot can (IMU with gravity, gyro differences): thesis-text only."""
     target_velocity: float = 0.25
     """Forward task only: the thesis's office and outdoor runs asked for 0.25 m/s (§5.2)."""
     steps: int = 20_000
@@ -31,11 +31,11 @@ class RealtimeConfig:
     """Deterministic run after training, as the thesis's evaluation runs (0 skips it)."""
     seed: int = 0
     agent: AgentConfig | None = None
-    """Agent settings; None means ALGORITHMS[algo]()."""
+    """Agent settings; None means the protocol's configuration of `algo` with `algo_params`."""
 
     @property
     def agent_config(self) -> AgentConfig:
-        return ALGORITHMS[self.algo]() if self.agent is None else self.agent
+        return super().agent_config if self.agent is None else self.agent
 
     @property
     def hz(self) -> float:
@@ -45,26 +45,19 @@ class RealtimeConfig:
     def utd(self) -> float:
         return self.agent_config.updates_per_step if self.updates_per_step is None else self.updates_per_step
 
-    @property
-    def name(self) -> str:
-        return f"{self.approach}_{self.algo}_{self.task}"
-
     def as_dict(self) -> dict:
         """Every setting as plain data, the agent's resolved (the results document's and the checkpoint's)."""
         return dict(dataclasses.asdict(self), agent=dataclasses.asdict(self.agent_config))
 
     def validate(self) -> None:
         """Raise ValueError naming what is wrong, before anything compiles or moves."""
-        if self.approach not in APPROACHES:
-            raise ValueError(f"approach {self.approach!r} is not one of {sorted(APPROACHES)}")
+        super().validate()
+        if self.protocol != "thesis-text":
+            raise ValueError(f"the on-robot loop runs the thesis-text protocol (a robot's IMU), not {self.protocol!r}")
         if self.approach == "cpg-rt":
             raise ValueError("cpg-rt averages two PD torques per joint, which only the simulator can do; "
                              "on a robot use cpg-rt-avg (averaged joint angles, what the thesis's robot ran) "
                              "or cpg-rt-sum")
-        if self.algo not in ALGORITHMS:
-            raise ValueError(f"algorithm {self.algo!r} is not one of {sorted(ALGORITHMS)}")
-        if self.task not in tasks.TASKS:
-            raise ValueError(f"task {self.task!r} is not one of {sorted(tasks.TASKS)}")
         if self.planned_contacts and not is_cpg(self.approach):
             raise ValueError("planned contacts come from the CPG's phase; the joint-target approaches have none")
         physics_hz = round(1.0 / robot.HB40.physics_dt)
@@ -72,3 +65,11 @@ class RealtimeConfig:
             raise ValueError(f"control rate {self.hz} Hz must lie in [1, {physics_hz}] Hz")
         if self.steps < 1 or self.warmup_steps < 0:
             raise ValueError("steps must be positive and warm-up steps not negative")
+
+    def make_task(self) -> tasks.Task:
+        """The task under the protocol, the forward one at `target_velocity`."""
+        params = dict(self.task_params)
+        if self.task == "forward":
+            params.setdefault("target_velocity", self.target_velocity)
+        protocol = self.protocol_spec
+        return tasks.make_task(self.task, protocol.rewards, protocol.curriculum, **params)

@@ -10,7 +10,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mjx_badger import cpg, protocols, robot, tasks
+from mjx_badger import cpg, robot, tasks
 from mjx_badger.actions import is_cpg
 from mjx_badger.agents import make_agent
 from mjx_badger.agents.losses import Transition
@@ -56,10 +56,10 @@ def observe(env: HB40Env, action_state, command, measured: Measured):
 def build(config: RealtimeConfig):
     """Environment (observation, action pipeline, task), agent and the two jitted functions."""
     config.validate()
-    task = tasks.forward(config.target_velocity) if config.task == "forward" else tasks.make_task(config.task)
-    # The on-robot loop observes as a robot can (IMU with gravity, gyro differences): the thesis-text protocol.
-    protocol = protocols.THESIS_TEXT.replace(episode_seconds=config.episode_seconds)
-    env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, protocol=protocol))
+    protocol = config.protocol_spec.replace(episode_seconds=config.episode_seconds)
+    task = config.make_task()
+    env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, protocol=protocol),
+                  approach_params=config.approach_params)
     agent = make_agent(config.agent_config, env.observation_size, env.action_size)
     has_cpg = is_cpg(config.approach)
 

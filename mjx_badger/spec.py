@@ -1,0 +1,77 @@
+"""RunSpec: what one run trains, shared by the vmapped trainer and the on-robot loop, checked when built.
+
+A run is a robot, an approach, an algorithm, a task and a protocol, each with its keyword
+parameters as plain `((name, value), ...)` fields, the values a sweep changes (a filter
+cutoff, a target speed, a learning rate). Building a spec checks every name against its
+registry and every parameter against what its owner takes, and names the valid choices.
+"""
+
+import dataclasses
+
+from mjx_badger import actions, protocols, robot, tasks
+from mjx_badger.agents import ALGORITHMS, AgentConfig
+from mjx_badger.protocols import Protocol
+
+AGENT_FIELDS = tuple(f.name for f in dataclasses.fields(AgentConfig) if f.name != "name")
+
+
+@dataclasses.dataclass(frozen=True)
+class RunSpec:
+    """What a run trains: robot, approach, algorithm, task and protocol, with their parameters."""
+
+    approach: str = "jt-oef"
+    """An action space of actions.APPROACHES: 'jt-nf', 'jt-lpf', 'jt-oef', 'cpg-d', 'cpg-vf', 'cpg-rt', ..."""
+    algo: str = "crossq"
+    """An algorithm of agents.ALGORITHMS: 'sac', 'sac-utd20', 'droq', 'crossq'."""
+    task: str = "forward"
+    """A task of tasks.TASKS: 'forward', 'forward-max', 'omni-random', 'omni-pdec', ..."""
+    protocol: str = "thesis-code"
+    """'thesis-code' (as the released code ran it) or 'thesis-text' (as the thesis reads); protocols.py."""
+    protocol_changes: tuple = ()
+    """One-factor swaps: ((field, value), ...) applied to the protocol (attribution runs)."""
+    approach_params: tuple = ()
+    """The approach's keyword parameters as ((name, value), ...), e.g. (("cutoff_hz", 2.0),) for JT-LPF."""
+    algo_params: tuple = ()
+    """AgentConfig fields set on the protocol's configuration of `algo`, e.g. (("learning_rate", 0.001),)."""
+    task_params: tuple = ()
+    """The task's keyword parameters as ((name, value), ...), e.g. (("target_velocity", 0.3),) for forward."""
+    robot: str = "hb40"
+    """The robot description (robot.ROBOTS): 'hb40', the thesis code's, or 'hb40-v1', this suite's first."""
+
+    def __post_init__(self):
+        self.validate()
+
+    def validate(self) -> None:
+        """Raise ValueError naming the valid choices for any unknown name or parameter, before anything compiles."""
+        for what, value, valid in (("approach", self.approach, actions.APPROACHES),
+                                   ("algorithm", self.algo, ALGORITHMS), ("task", self.task, tasks.TASKS),
+                                   ("protocol", self.protocol, protocols.PROTOCOLS),
+                                   ("robot", self.robot, robot.ROBOTS)):
+            if value not in valid:
+                raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
+        self.protocol_spec  # unknown protocol fields raise here
+        actions.check_params(self.approach, dict(self.approach_params))
+        actions.check_robot(self.approach, robot.ROBOTS[self.robot])
+        tasks.check_params(self.task, dict(self.task_params))
+        unknown = sorted(set(dict(self.algo_params)) - set(AGENT_FIELDS))
+        if unknown:
+            raise ValueError(f"algorithm parameters {', '.join(unknown)} are not AgentConfig fields; "
+                             f"choose from {', '.join(AGENT_FIELDS)}")
+
+    @property
+    def protocol_spec(self) -> Protocol:
+        return protocols.get(self.protocol, self.protocol_changes)
+
+    @property
+    def agent_config(self) -> AgentConfig:
+        """The protocol's configuration of `algo` with `algo_params` set."""
+        return self.protocol_spec.agent_config(self.algo).replace(**dict(self.algo_params))
+
+    def make_task(self) -> tasks.Task:
+        """The task under the protocol's reward forms and curriculum rules, with `task_params`."""
+        spec = self.protocol_spec
+        return tasks.make_task(self.task, spec.rewards, spec.curriculum, **dict(self.task_params))
+
+    @property
+    def name(self) -> str:
+        return f"{self.approach}_{self.algo}_{self.task}"

@@ -1,0 +1,46 @@
+"""RunSpec: one checked description of a run, shared by the trainer and the on-robot loop."""
+
+import dataclasses
+
+import pytest
+
+from mjx_badger import tasks
+from mjx_badger.realtime.config import RealtimeConfig
+from mjx_badger.spec import RunSpec
+from mjx_badger.train import TrainConfig
+
+
+@pytest.mark.parametrize("changes, message", [
+    ({"approach": "jt-xyz"}, "unknown approach 'jt-xyz'; choose from jt-nf, jt-lpf"),
+    ({"algo": "ppo"}, "unknown algorithm 'ppo'; choose from sac, sac-utd20, droq, crossq"),
+    ({"task": "jump"}, "unknown task 'jump'; choose from forward"),
+    ({"protocol": "thesis-paper"}, "unknown protocol 'thesis-paper'"),
+    ({"approach_params": (("cutoff_hz", 1.0),)}, "approach 'jt-oef' takes min_cutoff, beta, d_cutoff, not cutoff_hz"),
+    ({"task_params": (("speed", 0.3),)}, "task 'forward' takes target_velocity, not speed"),
+    ({"algo_params": (("learning_rat", 0.1),)}, "learning_rat are not AgentConfig fields; choose from learning_rate"),
+    ({"protocol_changes": (("gains", 1),)}, "unknown protocol field"),
+])
+def test_a_bad_spec_fails_when_built_and_names_the_choices(changes, message):
+    for kind in (RunSpec, TrainConfig):
+        with pytest.raises(ValueError, match=message.replace("(", r"\(")):
+            kind(**changes)
+    with pytest.raises(ValueError, match="must be shorter than the run"):
+        TrainConfig(total_steps=100, warmup_steps=100)
+
+
+def test_swept_values_are_plain_fields_that_reach_what_they_set():
+    spec = TrainConfig(algo_params=(("learning_rate", 0.001),), task_params=(("target_velocity", 0.3),))
+    assert spec.agent_config.learning_rate == 0.001
+    assert TrainConfig().agent_config.learning_rate == 0.005  # the protocol's CrossQ otherwise
+    command = spec.make_task().command((), None)[1]
+    assert float(command[0]) == pytest.approx(0.3)
+    assert tasks.task_params("omni-pdec") == ("speed",)
+
+
+def test_the_trainer_and_the_on_robot_loop_share_the_spec():
+    robot_run = RealtimeConfig(approach="jt-lpf", approach_params=(("cutoff_hz", 2.0),), algo_params=(("batch_size", 64),))
+    assert isinstance(robot_run, RunSpec) and robot_run.agent_config.batch_size == 64
+    shared = {f.name for f in dataclasses.fields(RunSpec)}
+    assert shared <= {f.name for f in dataclasses.fields(RealtimeConfig)} & {f.name for f in dataclasses.fields(TrainConfig)}
+    with pytest.raises(ValueError, match="thesis-text protocol"):
+        RealtimeConfig(protocol="thesis-code")
