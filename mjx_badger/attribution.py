@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mjx_badger import plots, protocols, results
+from mjx_badger import analysis, protocols, results
 from mjx_badger.experiments import EXPERIMENTS, Profile, Run, result_name
 from mjx_badger.train import TrainConfig
 
@@ -29,7 +29,7 @@ class Swap:
     experiment: str
     approaches: tuple
     measures: tuple
-    """Figures compared (plots.summarize names, or `eval/...` for a final evaluation metric), one per claim kind."""
+    """Figures compared (analysis.summarize names, or `eval/...` for a final evaluation metric), one per claim kind."""
     claims: tuple
     """Ids of the claims (claims.py) this departure may move."""
     robot: str = "hb40"
@@ -109,8 +109,8 @@ def _figure(path: Path, swap: Swap, measure: str):
     if not path.exists():
         return None
     if measure.startswith("eval/"):  # an evaluation metric: its final value, mean over seeds
-        return float(np.nanmean(plots.final(results.read(path), measure)))
-    return plots.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[measure]
+        return float(np.nanmean(analysis.final(results.read(path), measure)))
+    return analysis.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[measure]
 
 
 def _words(value, measure: str) -> str:

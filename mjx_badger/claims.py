@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-from mjx_badger import plots
+from mjx_badger import analysis
 from mjx_badger.experiments import EXPERIMENTS
 
 JT = ("jt-nf", "jt-oef", "jt-lpf")
@@ -32,7 +32,7 @@ class Results:
 
     def documents(self, experiment: str) -> dict:
         if experiment not in self._loaded:
-            self._loaded[experiment] = plots.load_experiment(EXPERIMENTS[experiment], self.folder / experiment)
+            self._loaded[experiment] = analysis.load_experiment(EXPERIMENTS[experiment], self.folder / experiment)
         return self._loaded[experiment]
 
     def document(self, experiment: str, name: str) -> dict:
@@ -42,16 +42,16 @@ class Results:
         return found
 
     def summary(self, experiment: str, name: str) -> dict:
-        return plots.summarize(self.document(experiment, name), EXPERIMENTS[experiment].target_velocity)
+        return analysis.summarize(self.document(experiment, name), EXPERIMENTS[experiment].target_velocity)
 
     def final_mean(self, experiment: str, name: str, metric: str) -> float:
-        return float(np.nanmean(plots.final(self.document(experiment, name), metric)))
+        return float(np.nanmean(analysis.final(self.document(experiment, name), metric)))
 
     def would_falls(self, experiment: str, name: str) -> float:
         document = self.document(experiment, name)
         if "train/would_falls" not in document["metrics"]:
             return float("nan")
-        return float(np.mean(plots.series(document, "train/would_falls")[-1]))
+        return float(np.mean(analysis.series(document, "train/would_falls")[-1]))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -99,7 +99,7 @@ ALGOS = ("sac", "sac-utd20", "droq", "crossq")
 def _first_to_target(r: Results):
     s = {a: r.summary("algo-comparison", a) for a in ALGOS}
     minutes = {a: s[a]["minutes_to_target"] for a in ALGOS}
-    words = ", ".join(f"{plots.display_name(a)} " + (f"not in {s[a]['minutes']:.1f}" if m is None else f"{m:.1f}")
+    words = ", ".join(f"{analysis.display_name(a)} " + (f"not in {s[a]['minutes']:.1f}" if m is None else f"{m:.1f}")
                       for a, m in minutes.items()) + " simulated min"
     ours = minutes["crossq"]
     if ours is None:
@@ -108,7 +108,7 @@ def _first_to_target(r: Results):
     if any(minutes[a] is not None and minutes[a] <= ours for a in others):
         return words, False
     # A run that stopped short of CrossQ's time without reaching the target might still have beaten it.
-    undecided = [plots.display_name(a) for a in others if minutes[a] is None and s[a]["minutes"] < ours]
+    undecided = [analysis.display_name(a) for a in others if minutes[a] is None and s[a]["minutes"] < ours]
     if undecided:
         return words + f" ({', '.join(undecided)} stopped before {ours:.1f} min)", None
     return words, True
@@ -117,7 +117,7 @@ def _first_to_target(r: Results):
 def _falls_at(document: dict, minutes: float) -> float:
     """Cumulative falls, mean over seeds, at the last chunk within `minutes` of simulated time."""
     index = int(np.searchsorted(np.asarray(document["sim_minutes"]), minutes + 1e-9)) - 1
-    return float(np.mean(plots.series(document, "train/falls")[max(index, 0)]))
+    return float(np.mean(analysis.series(document, "train/falls")[max(index, 0)]))
 
 
 def _crossq_falls(r: Results):
@@ -129,7 +129,7 @@ def _crossq_falls(r: Results):
 
 def _jt_convergence(r: Results):
     s = {a: r.summary("forward", a) for a in JT}
-    words = ", ".join(f"{plots.display_name(a)} {_steps(s[a])}" for a in ("jt-nf", "jt-oef", "jt-lpf"))
+    words = ", ".join(f"{analysis.display_name(a)} {_steps(s[a])}" for a in ("jt-nf", "jt-oef", "jt-lpf"))
     fast = _reached(s["jt-nf"], 10_000) and _reached(s["jt-oef"], 10_000)
     lpf = _reached(s["jt-lpf"]) and s["jt-lpf"]["steps_to_target"] >= max(
         s["jt-nf"]["steps_to_target"] or 0, s["jt-oef"]["steps_to_target"] or 0)
@@ -139,7 +139,7 @@ def _jt_convergence(r: Results):
 def _jt_falls(r: Results):
     thesis = {"jt-nf": 13, "jt-oef": 7, "jt-lpf": 7}
     falls = {a: r.summary("forward", a)["falls_mean"] for a in JT}
-    words = ", ".join(f"{plots.display_name(a)} {falls[a]:.1f}" for a in JT)
+    words = ", ".join(f"{analysis.display_name(a)} {falls[a]:.1f}" for a in JT)
     ordered = falls["jt-nf"] > falls["jt-oef"] and falls["jt-nf"] > falls["jt-lpf"]
     magnitude = all(thesis[a] / 3 <= falls[a] <= thesis[a] * 3 for a in JT)
     return words, ordered and magnitude
@@ -148,7 +148,7 @@ def _jt_falls(r: Results):
 def _cpg_never_falls(r: Results):
     falls = {a: r.summary("forward", a)["falls_mean"] for a in CPG}
     would = {a: r.would_falls("forward", a) for a in CPG}
-    words = ", ".join(f"{plots.display_name(a)} {falls[a]:.1f}" for a in CPG)
+    words = ", ".join(f"{analysis.display_name(a)} {falls[a]:.1f}" for a in CPG)
     if any(np.isfinite(v) for v in would.values()):
         words += " (JT rule would have fired: " + ", ".join(f"{would[a]:.1f}" for a in CPG) + ")"
     return words, all(f == 0 for f in falls.values())
@@ -156,7 +156,7 @@ def _cpg_never_falls(r: Results):
 
 def _cpg_vf_fastest(r: Results):
     s = {a: r.summary("forward", a) for a in CPG}
-    words = ", ".join(f"{plots.display_name(a)} {_steps(s[a])}" for a in CPG)
+    words = ", ".join(f"{analysis.display_name(a)} {_steps(s[a])}" for a in CPG)
     vf = s["cpg-vf"]["steps_to_target"]
     others = [s[a]["steps_to_target"] for a in ("cpg-d", "cpg-rt")]
     return words, vf is not None and all(o is None or vf <= o for o in others)
@@ -165,7 +165,7 @@ def _cpg_vf_fastest(r: Results):
 def _gait(experiment: str, names: tuple):
     def measure(r: Results):
         hz = {a: r.summary(experiment, a)["gait_hz"] for a in names}
-        words = ", ".join(f"{plots.display_name(a)} {'-' if hz[a] is None else f'{hz[a]:.1f} Hz'}" for a in names)
+        words = ", ".join(f"{analysis.display_name(a)} {'-' if hz[a] is None else f'{hz[a]:.1f} Hz'}" for a in names)
         values = [hz[a] for a in names]
         return words, all(v is not None for v in values) and all(a > b for a, b in zip(values, values[1:]))
 
@@ -174,50 +174,50 @@ def _gait(experiment: str, names: tuple):
 
 def _max_velocity(r: Results):
     v = {a: r.summary("forward-max", a)["final_eval_velocity_max"] for a in JT}
-    words = ", ".join(f"{plots.display_name(a)} {v[a]:.2f}" for a in JT)
+    words = ", ".join(f"{analysis.display_name(a)} {v[a]:.2f}" for a in JT)
     return words, v["jt-nf"] > v["jt-oef"] > v["jt-lpf"]
 
 
 def _cpg_vf_max(r: Results):
     v = {a: r.summary("forward-max", a)["final_eval_velocity_max"] for a in JT + CPG}
-    words = ", ".join(f"{plots.display_name(a)} {v[a]:.2f}" for a in CPG) + "; slowest JT " + f"{min(v[a] for a in JT):.2f}"
+    words = ", ".join(f"{analysis.display_name(a)} {v[a]:.2f}" for a in CPG) + "; slowest JT " + f"{min(v[a] for a in JT):.2f}"
     best_cpg = all(v["cpg-vf"] >= v[a] for a in CPG)
     return words, best_cpg and v["cpg-vf"] < min(v[a] for a in JT)
 
 
 def _lpf_falls_most(r: Results):
     falls = {a: r.summary("forward-max", a)["falls_mean"] for a in JT}
-    return ", ".join(f"{plots.display_name(a)} {falls[a]:.1f}" for a in JT), falls["jt-lpf"] > max(falls["jt-nf"], falls["jt-oef"])
+    return ", ".join(f"{analysis.display_name(a)} {falls[a]:.1f}" for a in JT), falls["jt-lpf"] > max(falls["jt-nf"], falls["jt-oef"])
 
 
 def _along(r: Results, experiment: str, name: str) -> float:
     return float(np.mean([r.final_mean(experiment, name, f"eval/{d}_full/desired_velocity")
-                          for d in plots.DIRECTIONS]))
+                          for d in analysis.DIRECTIONS]))
 
 
 def _jt_stands(r: Results):
     speeds = {a: _along(r, "omni-random", a) for a in JT}
-    words = ", ".join(f"{plots.display_name(a)} {speeds[a]:.2f} m/s" for a in JT) + " along the command (mean of 4 directions)"
+    words = ", ".join(f"{analysis.display_name(a)} {speeds[a]:.2f} m/s" for a in JT) + " along the command (mean of 4 directions)"
     return words, all(s < 0.15 for s in speeds.values())
 
 
 def _cpg_vf_best_omni(r: Results):
     mae = {a: r.final_mean("omni-random", a, "eval/desired_mae") for a in JT + CPG}
     yaw = r.final_mean("omni-random", "cpg-vf", "eval/yaw_mae")
-    words = ", ".join(f"{plots.display_name(a)} {mae[a]:.2f}" for a in CPG) + f" desired MAE; CPG-VF yaw MAE {yaw:.2f} rad/s"
+    words = ", ".join(f"{analysis.display_name(a)} {mae[a]:.2f}" for a in CPG) + f" desired MAE; CPG-VF yaw MAE {yaw:.2f} rad/s"
     return words, mae["cpg-vf"] <= min(mae.values()) and yaw <= 0.2
 
 
 def _curriculum_beats_random(r: Results):
     pairs = {a: (r.final_mean("omni-pdec", a, "eval/desired_mae"), r.final_mean("omni-random", a, "eval/desired_mae"))
              for a in CPG}
-    words = ", ".join(f"{plots.display_name(a)} {p:.2f} vs {q:.2f}" for a, (p, q) in pairs.items()) + " desired MAE (PDEC vs random)"
+    words = ", ".join(f"{analysis.display_name(a)} {p:.2f} vs {q:.2f}" for a, (p, q) in pairs.items()) + " desired MAE (PDEC vs random)"
     return words, all(p < q for p, q in pairs.values())
 
 
 def _curriculum_error(r: Results):
     mae = {a: r.final_mean("omni-pdec", a, "eval/desired_mae") for a in CPG}
-    return ", ".join(f"{plots.display_name(a)} {mae[a]:.2f}" for a in CPG), all(m <= 0.1 for m in mae.values())
+    return ", ".join(f"{analysis.display_name(a)} {mae[a]:.2f}" for a in CPG), all(m <= 0.1 for m in mae.values())
 
 
 CLAIMS = (

@@ -46,6 +46,14 @@ class Experiment:
     """The velocity a run should reach (None: as fast as possible)."""
     step_caps: dict = dataclasses.field(default_factory=dict)
     """profile -> {algo: steps}: fewer steps for algorithms a CPU cannot afford at that profile."""
+    figures: tuple = ("forward", "gait")
+    """Figure kinds drawn from its results (plots.FIGURES); the first is `<name>_<profile>.png`, others add `_<kind>`."""
+    table: str = "comparison"
+    """Its table of our numbers beside the thesis's (tables.TABLES)."""
+    x_axis: str = "steps"
+    """Learning curves and time to target in 'steps' or simulated 'minutes'."""
+    baseline: str | None = None
+    """An experiment drawn against this one in the 'versus' figure."""
 
     def label(self, run: Run) -> str:
         return getattr(run, self.compares)
@@ -83,6 +91,8 @@ EXPERIMENTS = {
         # steps (3.3 simulated minutes at thesis-code's 50 Hz, 4.2 at thesis-text's 40 Hz), past
         # the ~2.7 minutes CrossQ needs here, so "CrossQ first" can be decided; short of DroQ's 7.
         step_caps={"quick": {"sac-utd20": 10_000, "droq": 10_000}, "smoke": {"sac-utd20": 400, "droq": 400}},
+        figures=("algorithms",),
+        x_axis="minutes",
     ),
     "forward": Experiment(
         name="forward",
@@ -114,6 +124,8 @@ EXPERIMENTS = {
             "cpg-rt": {"max_velocity": 0.55, "falls": 0, "gait_hz": 2.0},
         },
         target_velocity=None,
+        figures=("forward-max", "gait"),
+        table="max-velocity",
     ),
     "omni-random": Experiment(
         name="omni-random",
@@ -129,6 +141,8 @@ EXPERIMENTS = {
             "cpg-vf": {"falls": 0, "finding": "best; target reached forward and backward"},
             "cpg-rt": {"falls": 0, "finding": "moves; uneven, weakest to the right"},
         },
+        figures=("omni", "gait", "directions"),
+        table="omni",
     ),
     "omni-pdec": Experiment(
         name="omni-pdec",
@@ -141,6 +155,9 @@ EXPERIMENTS = {
             "cpg-vf": {"falls": 0, "desired_mae": 0.05},
             "cpg-rt": {"falls": 0, "desired_mae": 0.05},
         },
+        figures=("omni", "gait", "directions", "versus"),
+        table="omni",
+        baseline="omni-random",
     ),
 }
 

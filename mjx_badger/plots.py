@@ -1,4 +1,4 @@
-"""Figures and tables drawn from results files only (nothing here trains)."""
+"""Figures drawn from results files only (nothing here trains); numbers from analysis.py, tables from tables.py."""
 
 import warnings
 from pathlib import Path
@@ -9,124 +9,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mjx_badger import results  # noqa: E402
 from mjx_badger.actions import APPROACHES  # noqa: E402
-from mjx_badger.agents.config import ALGORITHMS  # noqa: E402
-from mjx_badger.experiments import EXPERIMENTS, Experiment, result_name  # noqa: E402
-
-
-def display_name(name: str) -> str:
-    """How figures and tables name an approach or algorithm (their registries), else the name itself."""
-    entry = APPROACHES.get(name) or ALGORITHMS.get(name)
-    return name if entry is None else entry.label
-
-
-def display_color(name: str) -> str | None:
-    """The colour of an approach or algorithm in figures (their registries); None lets matplotlib choose."""
-    entry = APPROACHES.get(name) or ALGORITHMS.get(name)
-    return None if entry is None else entry.color
-
-
-LEGS = ("FL", "FR", "RL", "RR")
-DIRECTIONS = ("forward", "backward", "left", "right")
-REACHED_FRACTION = 0.9
-"""A run has reached the target once the seed-mean training velocity is >= 90 % of it."""
-
-
-def series(document: dict, name: str) -> np.ndarray:
-    """Metric `name` as an array (chunks, seeds), NaN where undefined."""
-    return np.array(document["metrics"][name], dtype=float)
-
-
-def last_chunks(document: dict) -> int:
-    """How many final chunks count as 'final' (the last tenth of the run, at least one)."""
-    return max(1, len(document["steps"]) // 10)
-
-
-def final(document: dict, name: str) -> np.ndarray:
-    """Metric `name` averaged over the final chunks, per seed (seeds,)."""
-    with np.errstate(all="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        return np.nanmean(series(document, name)[-last_chunks(document):], axis=0)
-
-
-def first_reached(document: dict, target: float) -> int | None:
-    """Index of the first chunk whose seed-mean training velocity reaches 90 % of `target`."""
-    mean = np.nanmean(series(document, "train/forward_velocity"), axis=1)
-    hits = np.flatnonzero(mean >= REACHED_FRACTION * target)
-    return int(hits[0]) if hits.size else None
-
-
-def gait_frequency(contacts, dt: float, low_hz: float = 0.5, high_hz: float = 12.0) -> float:
-    """Gait frequency (Hz): the strongest frequency of the feet's contact signals, summed over feet.
-
-    A spectral peak rather than a touchdown count, so a foot that brushes the floor twice in
-    one cycle does not double the figure (Hann window, zero-padded to 0.01 Hz bins).
-    """
-    contacts = np.asarray(contacts, dtype=float)
-    signal = (contacts - contacts.mean(axis=0)) * np.hanning(len(contacts))[:, None]
-    n = max(int(round(1.0 / (0.01 * dt))), len(contacts))
-    power = np.sum(np.abs(np.fft.rfft(signal, n=n, axis=0)) ** 2, axis=1)
-    frequency = np.fft.rfftfreq(n, dt)
-    band = (frequency >= low_hz) & (frequency <= high_hz)
-    if not np.any(power[band] > 0):
-        return float("nan")  # no foot changes contact: standing still
-    peak = frequency[band][np.argmax(power[band])]
-    # Two touchdowns per cycle can make the second harmonic the strongest line: take the lowest
-    # whole fraction of the peak that still carries a third of its power, the cycle itself.
-    for divisor in (4, 3, 2):
-        near = band & (np.abs(frequency - peak / divisor) <= 0.15)
-        if peak / divisor >= low_hz and np.any(near) and power[near].max() >= power[band].max() / 3:
-            return float(frequency[near][np.argmax(power[near])])
-    return float(peak)
-
-
-def gait_frequencies(document: dict) -> list[float]:
-    """Gait frequency of every seed's gait record, or [] if the file has none."""
-    gait = document.get("gait")
-    if not gait:
-        return []
-    return [gait_frequency(c, gait["physics_dt"]) for c in gait["contacts"]]
-
-
-def summarize(document: dict, target: float | None) -> dict:
-    """Headline numbers of one run: time to target, final velocities, falls (mean and range), gait."""
-    falls_curve = series(document, "train/falls")
-    falls = falls_curve[-1]
-    warmup = document["config"]["warmup_steps"]
-    warmup_chunks = [i for i, step in enumerate(document["steps"]) if step <= warmup]
-    falls_in_warmup = falls_curve[warmup_chunks[-1]] if warmup_chunks else np.zeros_like(falls)
-    reached = None if target is None else first_reached(document, target)
-    frequencies = gait_frequencies(document)
-    metrics = document["metrics"]
-    eval_velocity = final(document, "eval/forward_velocity") if "eval/forward_velocity" in metrics else None
-    return {
-        "steps": document["steps"][-1],
-        "minutes": document["sim_minutes"][-1],
-        "steps_to_target": None if reached is None else document["steps"][reached],
-        "minutes_to_target": None if reached is None else document["sim_minutes"][reached],
-        "final_velocity": float(np.nanmean(final(document, "train/forward_velocity"))),
-        "final_velocity_max": float(np.nanmax(final(document, "train/forward_velocity"))),
-        "final_eval_velocity": None if eval_velocity is None else float(np.nanmean(eval_velocity)),
-        "final_eval_velocity_max": None if eval_velocity is None else float(np.nanmax(eval_velocity)),
-        "falls_mean": float(falls.mean()),
-        "falls_min": float(falls.min()),
-        "falls_max": float(falls.max()),
-        "falls_after_warmup_mean": float((falls - falls_in_warmup).mean()),
-        "gait_hz": float(np.nanmean(frequencies)) if frequencies and not np.all(np.isnan(frequencies)) else None,
-        "seeds": len(document["seeds"]),
-        "complete": document["complete"],
-    }
-
-
-def load_experiment(experiment: Experiment, folder: Path) -> dict:
-    """Results documents of the experiment's runs found in `folder`, keyed by the compared name."""
-    found = {}
-    for run in experiment.runs:
-        path = Path(folder) / result_name(run)
-        if path.exists():
-            found[experiment.label(run)] = results.read(path)
-    return found
+from mjx_badger.analysis import (DIRECTIONS, LEGS, display_color, display_name, gait_frequency,  # noqa: E402
+                                 load_experiment, series, summarize)
+from mjx_badger.experiments import EXPERIMENTS, Experiment  # noqa: E402
+from mjx_badger.tables import TABLES  # noqa: E402
 
 
 def _band(ax, x, values, color, label, style=None):
@@ -308,97 +195,18 @@ def algorithms_figure(experiment: Experiment, documents: dict, out: Path, profil
                            ("Algorithm comparison, JT-NF forward at 0.5 m/s", thesis))
 
 
-def _value(value, fmt="{:.2f}", missing="-"):
-    return missing if value is None else fmt.format(value)
-
-
-def _thesis(numbers: dict, key: str, fmt="~{}"):
-    return fmt.format(numbers[key]) if key in numbers else "not given"
-
-
-def _run_cells(label: str, s: dict) -> str:
-    """'| name | seeds x steps' of a table row, marked when the run is incomplete."""
-    return f"| {display_name(label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'}"
-
-
-def _falls_cell(s: dict, thesis: dict) -> str:
-    return f"{s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {_thesis(thesis, 'falls')}"
-
-
-def _gait_cell(s: dict, thesis: dict) -> str:
-    return f"{_value(s['gait_hz'], '{:.1f}')} / {_thesis(thesis, 'gait_hz')}"
-
-
-def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
-    """Markdown table of our numbers beside the thesis's; time to target in steps or simulated minutes."""
-    by_minutes = x_axis == "minutes"
-    lines = [
-        f"| {experiment.compares.replace('algo', 'algorithm')} "
-        f"| seeds x steps{' (simulated min)' if by_minutes else ''} "
-        f"| {'minutes' if by_minutes else 'steps'} to 90 % of 0.5 m/s (ours / thesis) | final train velocity "
-        "| final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) | of which after warm-up "
-        "| gait Hz (ours / thesis) |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
-    unit, fmt = ("minutes_to_target", "{:.1f}") if by_minutes else ("steps_to_target", "{:,}")
-    for label, document in documents.items():
-        s = summarize(document, experiment.target_velocity)
-        thesis = experiment.thesis_numbers.get(label, {})
-        ours = "not reached" if s[unit] is None else fmt.format(s[unit])
-        theirs = thesis.get(unit, "reached (no figure given)")
-        theirs = f"~{fmt.format(theirs)}" if isinstance(theirs, (int, float)) else theirs
-        size = f"{s['seeds']} x {s['steps']:,}" + (f" ({s['minutes']:.1f})" if by_minutes else "")
-        lines.append(
-            f"| {display_name(label)} | {size}{'' if s['complete'] else ' (incomplete)'} | {ours} / {theirs} "
-            f"| {s['final_velocity']:.2f} m/s | {_value(s['final_eval_velocity'])} m/s "
-            f"| {_falls_cell(s, thesis)} | {s['falls_after_warmup_mean']:.1f} | {_gait_cell(s, thesis)} |")
-    return "\n".join(lines) + "\n"
-
-
-def max_velocity_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
-    """Tables 6.1/6.2 (simulation column) with our maximal velocities beside the thesis's."""
-    lines = ["| approach | seeds x steps | max velocity, thesis (m/s) | ours: final train velocity mean [best seed] "
-             "| ours: final eval velocity mean [best seed] | falls mean [min-max] (ours / thesis) "
-             "| gait Hz (ours / thesis) |", "|---|---|---|---|---|---|---|"]
-    for label, document in documents.items():
-        s = summarize(document, None)
-        thesis = experiment.thesis_numbers.get(label, {})
-        lines.append(
-            f"{_run_cells(label, s)} | {_thesis(thesis, 'max_velocity', '{}')} "
-            f"| {s['final_velocity']:.2f} [{s['final_velocity_max']:.2f}] "
-            f"| {_value(s['final_eval_velocity'])} [{_value(s['final_eval_velocity_max'])}] "
-            f"| {_falls_cell(s, thesis)} | {_gait_cell(s, thesis)} |")
-    return "\n".join(lines) + "\n"
-
-
-def omni_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
-    """Final evaluation per approach: errors, velocity along the command per direction, falls, curriculum."""
-    lines = ["| approach | seeds x steps | desired / lateral / yaw MAE | velocity along command at 0.5 m/s: "
-             "forward, backward, left, right | same at 0.25 m/s | falls mean [min-max] (ours / thesis) "
-             "| bins learned | thesis finding |", "|---|---|---|---|---|---|---|---|"]
-    for label, document in documents.items():
-        s = summarize(document, None)
-        thesis = experiment.thesis_numbers.get(label, {})
-        f = lambda name: float(np.nanmean(final(document, name)))
-        errors = " / ".join(f"{f(f'eval/{k}_mae'):.2f}" for k in ("desired", "lateral", "yaw"))
-        speeds = [", ".join(f"{f(f'eval/{d}_{level}/desired_velocity'):.2f}" for d in DIRECTIONS)
-                  for level in ("full", "half")]
-        bins = (f"{float(np.mean(series(document, 'curriculum/learned_bins')[-1])):.1f}"
-                if "curriculum/learned_bins" in document["metrics"] else "-")
-        finding = thesis.get("finding", f"desired MAE ~{thesis['desired_mae']}" if "desired_mae" in thesis else "")
-        lines.append(
-            f"{_run_cells(label, s)} | {errors} | {speeds[0]} | {speeds[1]} "
-            f"| {_falls_cell(s, thesis)} | {bins} | {finding} |")
-    return "\n".join(lines) + "\n"
-
-
 FIGURES = {
-    "algo-comparison": (algorithms_figure, comparison_table, "minutes"),
-    "forward": (forward_figure, comparison_table, "steps"),
-    "forward-max": (forward_max_figure, max_velocity_table, "steps"),
-    "omni-random": (omni_figure, omni_table, "steps"),
-    "omni-pdec": (omni_figure, omni_table, "steps"),
+    "algorithms": lambda e, docs, out, label, loaded: algorithms_figure(e, docs, out, label),
+    "forward": lambda e, docs, out, label, loaded: forward_figure(e, docs, out, label),
+    "forward-max": lambda e, docs, out, label, loaded: forward_max_figure(e, docs, out, label),
+    "omni": lambda e, docs, out, label, loaded: omni_figure(e, docs, out, label),
+    "gait": lambda e, docs, out, label, loaded: (gait_figure(e, docs, out, label, e.target_velocity)
+                                                 if any(d.get("gait") for d in docs.values()) else None),
+    "directions": lambda e, docs, out, label, loaded: direction_figure(e, docs, out, label),
+    "versus": lambda e, docs, out, label, loaded: (pdec_versus_random_figure(docs, loaded[e.baseline], out, label)
+                                                   if loaded.get(e.baseline) else None),
 }
+"""Figure kind (Experiment.figures) -> (experiment, its documents, out, title label, every experiment's) -> Path or None."""
 
 
 def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
@@ -523,20 +331,14 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protoco
         experiment, documents = EXPERIMENTS[name], loaded[name]
         if not documents:
             continue
-        figure, table, x_axis = FIGURES[name]
-        written.append(figure(experiment, documents, figures_dir / f"{name}_{profile}.png", label))
+        for index, kind in enumerate(experiment.figures):
+            suffix = "" if index == 0 else f"_vs_{experiment.baseline}" if kind == "versus" else f"_{kind}"
+            path = FIGURES[kind](experiment, documents, figures_dir / f"{name}{suffix}_{profile}.png", label, loaded)
+            written += [path] if path is not None else []
         table_path = figures_dir / f"{name}_{profile}.md"
-        table_path.write_text(f"Protocol: {protocol}, profile: {profile}\n\n" + table(experiment, documents, x_axis))
+        table = TABLES[experiment.table](experiment, documents, experiment.x_axis)
+        table_path.write_text(f"Protocol: {protocol}, profile: {profile}\n\n" + table)
         written.append(table_path)
-        if any(d.get("gait") for d in documents.values()) and name != "algo-comparison":
-            written.append(gait_figure(experiment, documents, figures_dir / f"{name}_gait_{profile}.png", label,
-                                       experiment.target_velocity))
-        if name.startswith("omni"):
-            written.append(direction_figure(experiment, documents, figures_dir / f"{name}_directions_{profile}.png",
-                                            label))
-    if loaded["omni-pdec"] and loaded["omni-random"]:
-        written.append(pdec_versus_random_figure(loaded["omni-pdec"], loaded["omni-random"],
-                                                 figures_dir / f"omni-pdec_vs_random_{profile}.png", label))
     if any(loaded.values()):
         written.append(overview_figure(loaded, figures_dir / f"overview_{profile}.png", label))
     return written

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import seed_keys
-from mjx_badger import actions, filters, plots, tasks
+from mjx_badger import actions, analysis, filters, tasks
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.agents.config import Algorithm, crossq
 from mjx_badger.train import TrainConfig, make_train
@@ -39,7 +39,7 @@ def test_registered_toys_train_a_smoke_run_and_show_in_figures(toys):
         carry, metrics = chunk(carry, index * config.chunk_steps)
     assert np.all(np.asarray(carry.agent_state.updates) == 50)
     assert np.isfinite(np.asarray(metrics["train/forward_velocity"])).all()
-    assert plots.display_name("jt-toy") == "JT-TOY" and plots.display_name("toy-crossq") == "Toy"
+    assert analysis.display_name("jt-toy") == "JT-TOY" and analysis.display_name("toy-crossq") == "Toy"
     assert not actions.is_cpg("jt-toy")
 
 

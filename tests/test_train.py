@@ -86,21 +86,21 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     assert np.isfinite(np.array(gait["forward_velocity"], dtype=float)).all()
 
     written = plots.draw(tmp_path / "results", tmp_path / "figures", "smoke", ["forward"])
-    assert [p.name for p in written] == ["forward_smoke.png", "forward_smoke.md", "forward_gait_smoke.png",
+    assert [p.name for p in written] == ["forward_smoke.png", "forward_gait_smoke.png", "forward_smoke.md",
                                          "overview_smoke.png"]
     assert all(p.parent.name == "thesis-code" for p in written)
-    assert written[1].read_text().startswith("Protocol: thesis-code")
+    assert written[2].read_text().startswith("Protocol: thesis-code")
     assert all(p.stat().st_size > 10_000 for p in written if p.suffix == ".png")
-    assert "JT-OEF" in written[1].read_text()
+    assert "JT-OEF" in written[2].read_text()
 
     # The same file stands in for a maximal-velocity run, only to exercise that figure and table.
     max_path = tmp_path / "results" / "forward-max" / "jt-oef_crossq_forward-max.json"
     max_path.parent.mkdir()
     max_path.write_text(path.read_text())
     written = plots.draw(tmp_path / "results", tmp_path / "figures", "smoke", ["forward-max"])
-    assert [p.name for p in written] == ["forward-max_smoke.png", "forward-max_smoke.md",
-                                         "forward-max_gait_smoke.png", "overview_smoke.png"]
-    assert "| JT-OEF | 2 x 300 | 1.3 |" in written[1].read_text()
+    assert [p.name for p in written] == ["forward-max_smoke.png", "forward-max_gait_smoke.png",
+                                         "forward-max_smoke.md", "overview_smoke.png"]
+    assert "| JT-OEF | 2 x 300 | 1.3 |" in written[2].read_text()
 
 
 def test_omni_run_records_eight_evaluations_and_the_curriculum_and_draws_every_omni_figure(tmp_path):
@@ -125,7 +125,7 @@ def test_omni_run_records_eight_evaluations_and_the_curriculum_and_draws_every_o
     written = {p.name: p for p in plots.draw(tmp_path / "results", tmp_path / "figures", "smoke")}
     for name in ("omni-pdec_smoke.png", "omni-pdec_smoke.md", "omni-pdec_directions_smoke.png",
                  "omni-pdec_gait_smoke.png", "omni-random_smoke.png", "omni-random_directions_smoke.png",
-                 "omni-pdec_vs_random_smoke.png", "overview_smoke.png"):
+                 "omni-pdec_vs_omni-random_smoke.png", "overview_smoke.png"):
         assert name in written, name
     assert "| CPG-D | 2 x 200 |" in written["omni-pdec_smoke.md"].read_text()
 

@@ -1,0 +1,128 @@
+"""Numbers from results files: series, final values, time to target, gait frequency, run summaries, names.
+
+Nothing here draws or trains; figures (plots.py), tables (tables.py) and the claims read these.
+"""
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from mjx_badger import results
+from mjx_badger.actions import APPROACHES
+from mjx_badger.agents.config import ALGORITHMS
+from mjx_badger.experiments import Experiment, result_name
+
+
+def display_name(name: str) -> str:
+    """How figures and tables name an approach or algorithm (their registries), else the name itself."""
+    entry = APPROACHES.get(name) or ALGORITHMS.get(name)
+    return name if entry is None else entry.label
+
+
+def display_color(name: str) -> str | None:
+    """The colour of an approach or algorithm in figures (their registries); None lets matplotlib choose."""
+    entry = APPROACHES.get(name) or ALGORITHMS.get(name)
+    return None if entry is None else entry.color
+
+
+LEGS = ("FL", "FR", "RL", "RR")
+DIRECTIONS = ("forward", "backward", "left", "right")
+REACHED_FRACTION = 0.9
+"""A run has reached the target once the seed-mean training velocity is >= 90 % of it."""
+
+
+def series(document: dict, name: str) -> np.ndarray:
+    """Metric `name` as an array (chunks, seeds), NaN where undefined."""
+    return np.array(document["metrics"][name], dtype=float)
+
+
+def last_chunks(document: dict) -> int:
+    """How many final chunks count as 'final' (the last tenth of the run, at least one)."""
+    return max(1, len(document["steps"]) // 10)
+
+
+def final(document: dict, name: str) -> np.ndarray:
+    """Metric `name` averaged over the final chunks, per seed (seeds,)."""
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return np.nanmean(series(document, name)[-last_chunks(document):], axis=0)
+
+
+def first_reached(document: dict, target: float) -> int | None:
+    """Index of the first chunk whose seed-mean training velocity reaches 90 % of `target`."""
+    mean = np.nanmean(series(document, "train/forward_velocity"), axis=1)
+    hits = np.flatnonzero(mean >= REACHED_FRACTION * target)
+    return int(hits[0]) if hits.size else None
+
+
+def gait_frequency(contacts, dt: float, low_hz: float = 0.5, high_hz: float = 12.0) -> float:
+    """Gait frequency (Hz): the strongest frequency of the feet's contact signals, summed over feet.
+
+    A spectral peak rather than a touchdown count, so a foot that brushes the floor twice in
+    one cycle does not double the figure (Hann window, zero-padded to 0.01 Hz bins).
+    """
+    contacts = np.asarray(contacts, dtype=float)
+    signal = (contacts - contacts.mean(axis=0)) * np.hanning(len(contacts))[:, None]
+    n = max(int(round(1.0 / (0.01 * dt))), len(contacts))
+    power = np.sum(np.abs(np.fft.rfft(signal, n=n, axis=0)) ** 2, axis=1)
+    frequency = np.fft.rfftfreq(n, dt)
+    band = (frequency >= low_hz) & (frequency <= high_hz)
+    if not np.any(power[band] > 0):
+        return float("nan")  # no foot changes contact: standing still
+    peak = frequency[band][np.argmax(power[band])]
+    # Two touchdowns per cycle can make the second harmonic the strongest line: take the lowest
+    # whole fraction of the peak that still carries a third of its power, the cycle itself.
+    for divisor in (4, 3, 2):
+        near = band & (np.abs(frequency - peak / divisor) <= 0.15)
+        if peak / divisor >= low_hz and np.any(near) and power[near].max() >= power[band].max() / 3:
+            return float(frequency[near][np.argmax(power[near])])
+    return float(peak)
+
+
+def gait_frequencies(document: dict) -> list[float]:
+    """Gait frequency of every seed's gait record, or [] if the file has none."""
+    gait = document.get("gait")
+    if not gait:
+        return []
+    return [gait_frequency(c, gait["physics_dt"]) for c in gait["contacts"]]
+
+
+def summarize(document: dict, target: float | None) -> dict:
+    """Headline numbers of one run: time to target, final velocities, falls (mean and range), gait."""
+    falls_curve = series(document, "train/falls")
+    falls = falls_curve[-1]
+    warmup = document["config"]["warmup_steps"]
+    warmup_chunks = [i for i, step in enumerate(document["steps"]) if step <= warmup]
+    falls_in_warmup = falls_curve[warmup_chunks[-1]] if warmup_chunks else np.zeros_like(falls)
+    reached = None if target is None else first_reached(document, target)
+    frequencies = gait_frequencies(document)
+    metrics = document["metrics"]
+    eval_velocity = final(document, "eval/forward_velocity") if "eval/forward_velocity" in metrics else None
+    return {
+        "steps": document["steps"][-1],
+        "minutes": document["sim_minutes"][-1],
+        "steps_to_target": None if reached is None else document["steps"][reached],
+        "minutes_to_target": None if reached is None else document["sim_minutes"][reached],
+        "final_velocity": float(np.nanmean(final(document, "train/forward_velocity"))),
+        "final_velocity_max": float(np.nanmax(final(document, "train/forward_velocity"))),
+        "final_eval_velocity": None if eval_velocity is None else float(np.nanmean(eval_velocity)),
+        "final_eval_velocity_max": None if eval_velocity is None else float(np.nanmax(eval_velocity)),
+        "falls_mean": float(falls.mean()),
+        "falls_min": float(falls.min()),
+        "falls_max": float(falls.max()),
+        "falls_after_warmup_mean": float((falls - falls_in_warmup).mean()),
+        "gait_hz": float(np.nanmean(frequencies)) if frequencies and not np.all(np.isnan(frequencies)) else None,
+        "seeds": len(document["seeds"]),
+        "complete": document["complete"],
+    }
+
+
+def load_experiment(experiment: Experiment, folder: Path) -> dict:
+    """Results documents of the experiment's runs found in `folder`, keyed by the compared name."""
+    found = {}
+    for run in experiment.runs:
+        path = Path(folder) / result_name(run)
+        if path.exists():
+            found[experiment.label(run)] = results.read(path)
+    return found

@@ -1,0 +1,94 @@
+"""Markdown tables of our numbers beside the thesis's, one per experiment kind, from results files only."""
+
+import numpy as np
+
+from mjx_badger.analysis import DIRECTIONS, display_name, final, series, summarize
+from mjx_badger.experiments import Experiment
+
+
+def _value(value, fmt="{:.2f}", missing="-"):
+    return missing if value is None else fmt.format(value)
+
+
+def _thesis(numbers: dict, key: str, fmt="~{}"):
+    return fmt.format(numbers[key]) if key in numbers else "not given"
+
+
+def _run_cells(label: str, s: dict) -> str:
+    """'| name | seeds x steps' of a table row, marked when the run is incomplete."""
+    return f"| {display_name(label)} | {s['seeds']} x {s['steps']:,}{'' if s['complete'] else ' (incomplete)'}"
+
+
+def _falls_cell(s: dict, thesis: dict) -> str:
+    return f"{s['falls_mean']:.1f} [{s['falls_min']:.0f}-{s['falls_max']:.0f}] / {_thesis(thesis, 'falls')}"
+
+
+def _gait_cell(s: dict, thesis: dict) -> str:
+    return f"{_value(s['gait_hz'], '{:.1f}')} / {_thesis(thesis, 'gait_hz')}"
+
+
+def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
+    """Markdown table of our numbers beside the thesis's; time to target in steps or simulated minutes."""
+    by_minutes = x_axis == "minutes"
+    lines = [
+        f"| {experiment.compares.replace('algo', 'algorithm')} "
+        f"| seeds x steps{' (simulated min)' if by_minutes else ''} "
+        f"| {'minutes' if by_minutes else 'steps'} to 90 % of 0.5 m/s (ours / thesis) | final train velocity "
+        "| final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) | of which after warm-up "
+        "| gait Hz (ours / thesis) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    unit, fmt = ("minutes_to_target", "{:.1f}") if by_minutes else ("steps_to_target", "{:,}")
+    for label, document in documents.items():
+        s = summarize(document, experiment.target_velocity)
+        thesis = experiment.thesis_numbers.get(label, {})
+        ours = "not reached" if s[unit] is None else fmt.format(s[unit])
+        theirs = thesis.get(unit, "reached (no figure given)")
+        theirs = f"~{fmt.format(theirs)}" if isinstance(theirs, (int, float)) else theirs
+        size = f"{s['seeds']} x {s['steps']:,}" + (f" ({s['minutes']:.1f})" if by_minutes else "")
+        lines.append(
+            f"| {display_name(label)} | {size}{'' if s['complete'] else ' (incomplete)'} | {ours} / {theirs} "
+            f"| {s['final_velocity']:.2f} m/s | {_value(s['final_eval_velocity'])} m/s "
+            f"| {_falls_cell(s, thesis)} | {s['falls_after_warmup_mean']:.1f} | {_gait_cell(s, thesis)} |")
+    return "\n".join(lines) + "\n"
+
+
+def max_velocity_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
+    """Tables 6.1/6.2 (simulation column) with our maximal velocities beside the thesis's."""
+    lines = ["| approach | seeds x steps | max velocity, thesis (m/s) | ours: final train velocity mean [best seed] "
+             "| ours: final eval velocity mean [best seed] | falls mean [min-max] (ours / thesis) "
+             "| gait Hz (ours / thesis) |", "|---|---|---|---|---|---|---|"]
+    for label, document in documents.items():
+        s = summarize(document, None)
+        thesis = experiment.thesis_numbers.get(label, {})
+        lines.append(
+            f"{_run_cells(label, s)} | {_thesis(thesis, 'max_velocity', '{}')} "
+            f"| {s['final_velocity']:.2f} [{s['final_velocity_max']:.2f}] "
+            f"| {_value(s['final_eval_velocity'])} [{_value(s['final_eval_velocity_max'])}] "
+            f"| {_falls_cell(s, thesis)} | {_gait_cell(s, thesis)} |")
+    return "\n".join(lines) + "\n"
+
+
+def omni_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
+    """Final evaluation per approach: errors, velocity along the command per direction, falls, curriculum."""
+    lines = ["| approach | seeds x steps | desired / lateral / yaw MAE | velocity along command at 0.5 m/s: "
+             "forward, backward, left, right | same at 0.25 m/s | falls mean [min-max] (ours / thesis) "
+             "| bins learned | thesis finding |", "|---|---|---|---|---|---|---|---|"]
+    for label, document in documents.items():
+        s = summarize(document, None)
+        thesis = experiment.thesis_numbers.get(label, {})
+        f = lambda name: float(np.nanmean(final(document, name)))
+        errors = " / ".join(f"{f(f'eval/{k}_mae'):.2f}" for k in ("desired", "lateral", "yaw"))
+        speeds = [", ".join(f"{f(f'eval/{d}_{level}/desired_velocity'):.2f}" for d in DIRECTIONS)
+                  for level in ("full", "half")]
+        bins = (f"{float(np.mean(series(document, 'curriculum/learned_bins')[-1])):.1f}"
+                if "curriculum/learned_bins" in document["metrics"] else "-")
+        finding = thesis.get("finding", f"desired MAE ~{thesis['desired_mae']}" if "desired_mae" in thesis else "")
+        lines.append(
+            f"{_run_cells(label, s)} | {errors} | {speeds[0]} | {speeds[1]} "
+            f"| {_falls_cell(s, thesis)} | {bins} | {finding} |")
+    return "\n".join(lines) + "\n"
+
+
+TABLES = {"comparison": comparison_table, "max-velocity": max_velocity_table, "omni": omni_table}
+"""Table kind (Experiment.table) -> (experiment, documents, x_axis) -> Markdown."""
