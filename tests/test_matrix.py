@@ -5,7 +5,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from mjx_badger import protocols
+from mjx_badger import actions, protocols
 from mjx_badger.env import EnvConfig, HB40Env
 from mjx_badger.experiments import APPROACHES
 
@@ -47,7 +47,7 @@ def rollout(approach, task, states=None):
 @pytest.mark.parametrize("approach, task", MATRIX)
 def test_every_approach_and_task_runs_a_vmapped_smoke_episode(approach, task):
     env, _, (state, (obs, reward, done, _, metrics)) = rollout(approach, task)
-    expected_obs = 56 if approach.startswith("cpg") else 54
+    expected_obs = 56 if actions.is_cpg(approach) else 54
     assert env.observation_size == expected_obs and obs.shape == (SEEDS, STEPS, expected_obs)
     assert np.isfinite(np.asarray(obs)).all() and np.isfinite(np.asarray(reward)).all()
     if task != "forward-max":  # the released max_x reward is unclipped (THESIS_CODE §5)
