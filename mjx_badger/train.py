@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 from flax import struct
 
-from mjx_badger import actions, protocols, replay, robot, tasks
+from mjx_badger import actions, evaluation, protocols, replay, robot, tasks
 from mjx_badger.agents import ALGORITHMS, AgentConfig, AgentState, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
@@ -165,61 +165,8 @@ def make_train(config: TrainConfig) -> Trainer:
                               episode_return=jnp.where(done, 0.0, episode_return), falls=falls)
         return carry, step_metrics
 
-    eval_names = tuple(env.task.eval_commands)
-    eval_commands = jnp.asarray([env.task.eval_commands[name] for name in eval_names], dtype=jnp.float32)
-
-    def evaluate_one(agent_state, key, command):
-        """Deterministic policy from a fresh episode under `command`; the steps after a first fall are ignored."""
-
-        def body(state, _):
-            state = env.step(state, agent.act(agent_state, state.obs, None, deterministic=True))
-            m = state.metrics
-            return state, (state.reward, m["desired_velocity"], m["command_lateral_velocity"], m["yaw_rate"],
-                           state.info["terminated"])
-
-        _, (reward, along, lateral, yaw, terminated) = jax.lax.scan(
-            body, env.reset(key, command), None, length=config.eval_steps)
-        upright = jnp.cumsum(terminated) == 0
-        mean = lambda x: jnp.sum(jnp.where(upright, x, 0.0)) / jnp.maximum(jnp.sum(upright), 1)
-        speed = jnp.linalg.norm(command[:2])
-        return {
-            "return": jnp.sum(jnp.where(upright, reward, 0.0)),
-            "desired_velocity": mean(along),
-            "lateral_velocity": mean(lateral),
-            "yaw_rate": mean(yaw),
-            "desired_mae": mean(jnp.abs(along - speed)),
-            "lateral_mae": mean(jnp.abs(lateral)),
-            "yaw_mae": mean(jnp.abs(yaw)),
-            "falls": jnp.any(terminated).astype(jnp.float32),
-        }
-
-    def evaluate(agent_state, key):
-        """The task's evaluation runs (§5.1.4: four directions x two speeds for the omni tasks)."""
-        if len(eval_names) == 1:
-            run = evaluate_one(agent_state, key, eval_commands[0])
-            return {"eval/return": run["return"], "eval/forward_velocity": run["desired_velocity"],
-                    "eval/lateral_velocity": run["lateral_velocity"], "eval/yaw_rate": run["yaw_rate"],
-                    "eval/falls": run["falls"]}
-        runs = jax.vmap(evaluate_one, in_axes=(None, None, 0))(agent_state, key, eval_commands)
-        metrics = {f"eval/{name}/{k}": v[i] for k, v in runs.items() for i, name in enumerate(eval_names)}
-        metrics.update({f"eval/{k}": jnp.mean(runs[k]) for k in ("return", "desired_mae", "lateral_mae", "yaw_mae")})
-        metrics["eval/falls"] = jnp.sum(runs["falls"])
-        return metrics
-
-    def gait(carry: Carry):
-        """After training: a deterministic run under the first evaluation command, traced at the physics rate.
-
-        Returns the last `gait_seconds / 2` of foot contacts (T, 4) and trunk forward velocity (T,).
-        """
-
-        def body(state, _):
-            action = agent.act(carry.agent_state, state.obs, None, deterministic=True)
-            return env.traced_step(state, action)
-
-        steps = int(round(config.gait_seconds / env.control_dt))
-        _, (contacts, velocity) = jax.lax.scan(body, env.reset(carry.eval_key, eval_commands[0]), None, length=steps)
-        keep = steps * env.substeps // 2
-        return {"contacts": contacts.reshape(-1, 4)[-keep:].astype(jnp.int8), "forward_velocity": velocity.reshape(-1)[-keep:]}
+    act = lambda agent_state, obs: agent.act(agent_state, obs, None, deterministic=True)
+    evaluate, gait_record = evaluation.make_evaluation(env, act, config.eval_steps, config.gait_seconds)
 
     def chunk(carry: Carry, start_step):
         """`chunk_steps` environment steps with learning, then one evaluation; metrics are per seed."""
@@ -248,5 +195,9 @@ def make_train(config: TrainConfig) -> Trainer:
         """The whole run for one seed: metrics stacked over chunks."""
         starts = jnp.arange(config.num_chunks) * config.chunk_steps
         return jax.lax.scan(chunk, init(key), starts)
+
+    def gait(carry: Carry):
+        """After training: the gait record of the seed's deterministic policy (evaluation.py)."""
+        return gait_record(carry.agent_state, carry.eval_key)
 
     return Trainer(config=config, env=env, init=init, chunk=chunk, train=train, gait=gait)

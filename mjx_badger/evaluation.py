@@ -1,0 +1,75 @@
+"""Deterministic evaluation runs and the gait record of a policy, as pure functions over an env.
+
+`make_evaluation(env, act, eval_steps, gait_seconds)` returns `evaluate(policy_state, key) ->
+eval/ metrics` (the task's evaluation commands: one for the forward tasks, four directions x two
+speeds for the omni ones) and `gait(policy_state, key) -> record` (foot contacts and forward
+velocity at the physics rate), where `act(policy_state, obs)` is the deterministic policy.
+"""
+
+from typing import Callable
+
+import jax
+import jax.numpy as jnp
+
+MEAN_OVER_COMMANDS = ("return", "desired_mae", "lateral_mae", "yaw_mae")
+
+
+def make_evaluation(env, act: Callable, eval_steps: int, gait_seconds: float):
+    """(evaluate, gait) of the policy `act` on `env`; see the module docstring."""
+    names = tuple(env.task.eval_commands)
+    commands = jnp.asarray([env.task.eval_commands[name] for name in names], dtype=jnp.float32)
+
+    def run(policy_state, key, command):
+        """Deterministic policy from a fresh episode under `command`; the steps after a first fall are ignored."""
+
+        def body(state, _):
+            state = env.step(state, act(policy_state, state.obs))
+            m = state.metrics
+            return state, (state.reward, m["desired_velocity"], m["command_lateral_velocity"], m["yaw_rate"],
+                           state.info["terminated"])
+
+        _, (reward, along, lateral, yaw, terminated) = jax.lax.scan(
+            body, env.reset(key, command), None, length=eval_steps)
+        upright = jnp.cumsum(terminated) == 0
+        mean = lambda x: jnp.sum(jnp.where(upright, x, 0.0)) / jnp.maximum(jnp.sum(upright), 1)
+        speed = jnp.linalg.norm(command[:2])
+        return {
+            "return": jnp.sum(jnp.where(upright, reward, 0.0)),
+            "desired_velocity": mean(along),
+            "lateral_velocity": mean(lateral),
+            "yaw_rate": mean(yaw),
+            "desired_mae": mean(jnp.abs(along - speed)),
+            "lateral_mae": mean(jnp.abs(lateral)),
+            "yaw_mae": mean(jnp.abs(yaw)),
+            "falls": jnp.any(terminated).astype(jnp.float32),
+        }
+
+    def evaluate(policy_state, key):
+        """The task's evaluation runs as eval/ metrics (per command for several, plus their means)."""
+        if len(names) == 1:
+            one = run(policy_state, key, commands[0])
+            return {"eval/return": one["return"], "eval/forward_velocity": one["desired_velocity"],
+                    "eval/lateral_velocity": one["lateral_velocity"], "eval/yaw_rate": one["yaw_rate"],
+                    "eval/falls": one["falls"]}
+        runs = jax.vmap(run, in_axes=(None, None, 0))(policy_state, key, commands)
+        metrics = {f"eval/{name}/{k}": v[i] for k, v in runs.items() for i, name in enumerate(names)}
+        metrics.update({f"eval/{k}": jnp.mean(runs[k]) for k in MEAN_OVER_COMMANDS})
+        metrics["eval/falls"] = jnp.sum(runs["falls"])
+        return metrics
+
+    def gait(policy_state, key):
+        """A deterministic run under the first evaluation command, traced at the physics rate.
+
+        Returns the last `gait_seconds / 2` of foot contacts (T, 4) and trunk forward velocity (T,).
+        """
+
+        def body(state, _):
+            return env.traced_step(state, act(policy_state, state.obs))
+
+        steps = int(round(gait_seconds / env.control_dt))
+        _, (contacts, velocity) = jax.lax.scan(body, env.reset(key, commands[0]), None, length=steps)
+        keep = steps * env.substeps // 2
+        return {"contacts": contacts.reshape(-1, 4)[-keep:].astype(jnp.int8),
+                "forward_velocity": velocity.reshape(-1)[-keep:]}
+
+    return evaluate, gait
