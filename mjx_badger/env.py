@@ -65,10 +65,7 @@ def observation_layout(action_space: actions.ActionSpace, protocol: Protocol = p
 
 # A foot touches the floor when its sphere centre is within this of the sphere radius (flat ground).
 CONTACT_TOLERANCE_M = 0.003
-# thesis-text termination (our reading): a fall is a tilt beyond 0.8 rad (about 46 degrees) or the
-# trunk centre below 0.15 m (trunk or hips at the floor).
-TEXT_FALL_TILT_RAD = 0.8
-TEXT_FALL_HEIGHT_M = 0.15
+# thesis-text termination (our reading): the robot's own fall rule (RobotSpec.fall_tilt_rad, fall_height).
 # thesis-code termination (THESIS_CODE §6).
 CODE_FALL_TILT_RAD = np.deg2rad(30.0)
 CODE_FALL_ANGULAR_SPEED = 4.0
@@ -251,8 +248,9 @@ class HB40Env(Env):
         """Whether the protocol's termination rule fires on this step."""
         rot = data.xmat[self._trunk]
         if self.protocol.termination == "tilt-height":
-            return ((jnp.abs(motion.roll) > TEXT_FALL_TILT_RAD) | (jnp.abs(motion.pitch) > TEXT_FALL_TILT_RAD)
-                    | (data.qpos[2] < TEXT_FALL_HEIGHT_M))
+            tilt = self.spec.fall_tilt_rad
+            return ((jnp.abs(motion.roll) > tilt) | (jnp.abs(motion.pitch) > tilt)
+                    | (data.qpos[2] < self.spec.fall_height))
         # The trunk box's lowest corner at the floor: the trunk-floor contact (a box on a plane).
         trunk_bottom = data.xpos[self._trunk, 2] - jnp.sum(jnp.abs(rot[2]) * self._trunk_half)
         return ((jnp.abs(motion.roll) >= CODE_FALL_TILT_RAD) | (jnp.abs(motion.pitch) >= CODE_FALL_TILT_RAD)

@@ -89,6 +89,10 @@ class RobotSpec:
     """Thesis §4.1: joint-target actions stay within +-these (rad) of the nominal pose."""
     home_height: float = 0.316
     """Trunk height at reset (released code: a 4.4 cm drop onto the feet)."""
+    fall_tilt_rad: float = 0.8
+    """The robot has fallen past this roll or pitch (about 46 degrees): thesis-text's rule and the safety monitor's."""
+    fall_height: float = 0.15
+    """... or with the trunk centre below this (trunk or hips at the floor): thesis-text's rule."""
     physics_dt: float = 0.005
     friction: float = 1.1
     contact_solref: tuple = (-1000.0, -80.0)

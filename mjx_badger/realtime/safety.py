@@ -12,8 +12,8 @@ from mjx_badger.realtime.interface import Sensors, roll_pitch, rotation_matrix
 class SafetyLimits:
     """Trip points of the monitor."""
 
-    tilt_rad: float = 0.8
-    """Roll or pitch beyond this trips, the simulated environment's fall threshold."""
+    tilt_rad: float = robot.HB40.fall_tilt_rad
+    """Roll or pitch beyond this trips: the robot's fall rule, as the simulated environment's."""
     joint_margin_rad: float = 0.05
     """A joint this far outside its mechanical range trips (encoders overshoot the stops a little)."""
 
