@@ -89,6 +89,10 @@ class RobotSpec:
     """Thesis §4.1: joint-target actions stay within +-these (rad) of the nominal pose."""
     home_height: float = 0.316
     """Trunk height at reset (released code: a 4.4 cm drop onto the feet)."""
+    pd_gains: tuple = (60.0, 3.0)
+    """The robot's own joint controller as the on-robot loop drives it: the scripts' Kp 60 / Kd 3."""
+    damping_gains: tuple = (0.0, 3.0)
+    """The safety stop: the motors only damp, Kp 0 / Kd 3 (§5.2)."""
     fall_tilt_rad: float = 0.8
     """The robot has fallen past this roll or pitch (about 46 degrees): thesis-text's rule and the safety monitor's."""
     fall_height: float = 0.15
@@ -130,11 +134,6 @@ ahead of it (feet 0.33 m below the hips). Contacts and solver are the HB40's, so
 moves geometry and inertia alone (attribution.py's 'robot geometry')."""
 
 ROBOTS = {spec.name: spec for spec in (HB40, HB40_FIRST_VERSION)}
-
-# The robot's own controller, as the on-robot loop drives it: the scripts' Kp 60 / Kd 3, and
-# the thesis's safety stop, Kp 0 / Kd 3 (§5.2).
-ROBOT_PD_GAINS = (60.0, 3.0)
-DAMPING_PD_GAINS = (0.0, 3.0)
 
 
 def joint_signs(spec: RobotSpec = HB40) -> np.ndarray:

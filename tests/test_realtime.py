@@ -162,7 +162,7 @@ def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path,
     document = run(TINY, bot, tmp_path, resume=False, view=False)
     assert document["complete"] and document["steps"] == TINY.steps
     assert document["falls"] >= 1
-    assert bot.gains_at_reset[0] == robot.DAMPING_PD_GAINS
+    assert bot.gains_at_reset[0] == robot.HB40.damping_gains
     # The learner ran concurrently: one update per learning step, capped by the replay ratio.
     assert 0 < document["updates"] <= TINY.steps - TINY.warmup_steps
     timing = document["timing"]
@@ -237,7 +237,7 @@ def test_simulated_robot_is_paced_to_the_wall_clock_and_stands():
     # Free-running, native MuJoCo would simulate ~40 s in this second; paced, about one.
     assert 0.5 < reading.time < 1.5
     assert safety.check(reading) is None and abs(bot.truth()["height"] - 0.26) < 0.05
-    assert bot.gains == robot.DAMPING_PD_GAINS  # stop() leaves it damped
+    assert bot.gains == robot.HB40.damping_gains  # stop() leaves it damped
 
 
 def test_realtime_scheduling_is_taken_where_allowed_and_given_back():

@@ -185,7 +185,7 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
         if trip:
             bot.damp()
         elif not last:
-            bot.command(np.asarray(target), *robot.ROBOT_PD_GAINS)
+            bot.command(np.asarray(target), *robot.ROBOTS[config.robot].pd_gains)
         obs, reward = np.asarray(obs), float(reward)
         if stepping:
             session.buffer.add(previous[0], previous[1], reward, obs, 0.0 if trip else 1.0)
@@ -244,7 +244,7 @@ def evaluate(session: Session, evaluate_tick, agent_state, task, key) -> dict:
             break
         action_state, target = evaluate_tick(agent_state, action_state, command,
                                              measure(sensors, prev_gyro, velocity))
-        bot.command(np.asarray(target), *robot.ROBOT_PD_GAINS)
+        bot.command(np.asarray(target), *robot.ROBOTS[config.robot].pd_gains)
         prev_gyro = sensors.angular_velocity
         estimated.append(velocity[0])
         true.append(bot.truth()["linear_velocity"][0] if hasattr(bot, "truth") else np.nan)

@@ -50,7 +50,7 @@ class SimulatedHB40:
         self._lock = threading.Lock()
         self._running = threading.Event()
         self._thread: threading.Thread | None = None
-        self._gains = robot.ROBOT_PD_GAINS
+        self._gains = robot.HB40.pd_gains
         self._applied_gains = None
         self._targets = np.asarray(robot.nominal_pose(), dtype=np.float64)
         self._trunk = self.model.body("trunk").id
@@ -81,7 +81,7 @@ class SimulatedHB40:
 
     def damp(self) -> None:
         with self._lock:
-            self._gains = robot.DAMPING_PD_GAINS
+            self._gains = robot.HB40.damping_gains
             self.damp_calls += 1
 
     def reset(self) -> None:
@@ -120,7 +120,7 @@ class SimulatedHB40:
         mujoco.mj_resetData(self.model, self.data)
         self.data.qpos[:] = robot.standing_qpos(self.model)
         self._targets = np.asarray(robot.nominal_pose(), dtype=np.float64)
-        self._gains = robot.ROBOT_PD_GAINS
+        self._gains = robot.HB40.pd_gains
         self.data.ctrl[:] = self._targets
         mujoco.mj_forward(self.model, self.data)
         self._sensors = self._measure()
