@@ -47,18 +47,26 @@ def writable_dir(parser: argparse.ArgumentParser, path: Path, what: str) -> Path
     return path
 
 
-def protocol_change(text: str) -> tuple:
-    """FIELD=VALUE, one protocol field set by hand (a one-factor swap)."""
+def name_value(text: str) -> tuple:
+    """NAME=VALUE with VALUE read as a Python literal (a bare word stays a string)."""
     import ast
 
-    field, sep, value = text.partition("=")
-    if not sep or field not in FIELDS:
-        raise argparse.ArgumentTypeError(f"expected FIELD=VALUE with FIELD one of: {', '.join(FIELDS)}; got {text!r}")
+    name, sep, value = text.partition("=")
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE; got {text!r}")
     try:
         parsed = ast.literal_eval(value)
     except (ValueError, SyntaxError):
         parsed = value  # a bare word such as thesis-text or butterworth
-    return field, tuple(parsed) if isinstance(parsed, list) else parsed
+    return name, tuple(parsed) if isinstance(parsed, list) else parsed
+
+
+def protocol_change(text: str) -> tuple:
+    """FIELD=VALUE, one protocol field set by hand (a one-factor swap)."""
+    field, value = name_value(text) if "=" in text else (text, None)
+    if "=" not in text or field not in FIELDS:
+        raise argparse.ArgumentTypeError(f"expected FIELD=VALUE with FIELD one of: {', '.join(FIELDS)}; got {text!r}")
+    return field, value
 
 
 def add_protocol_argument(parser: argparse.ArgumentParser) -> None:
@@ -88,6 +96,11 @@ def build_parser() -> argparse.ArgumentParser:
     add_protocol_argument(train)
     train.add_argument("--set", dest="changes", type=protocol_change, action="append", default=[], metavar="FIELD=VALUE",
                        help="change one protocol field (repeatable), e.g. --set action_delay=False")
+    for what, example in (("approach", "cutoff_hz=2.0"), ("algo", "learning_rate=0.001"),
+                          ("task", "target_velocity=0.3")):
+        train.add_argument(f"--{what}-param", dest=f"{what}_params", type=name_value, action="append", default=[],
+                           metavar="NAME=VALUE", help=f"one {what} parameter (repeatable), e.g. {example}; "
+                                                      "`list` shows which each takes")
     train.add_argument("--robot", choices=list(ROBOTS), default="hb40",
                        help="hb40: the thesis code's model; hb40-v1: this suite's first (JT approaches only)")
     train.add_argument("--out", type=Path, default=Path("results"), help="folder for the results file")
@@ -152,6 +165,13 @@ def main(argv=None) -> int:
                              ("experiments", EXPERIMENTS), ("profiles", PROFILES), ("protocols", PROTOCOLS),
                              ("protocol fields", FIELDS), ("robots", ROBOTS), ("attribution swaps", _swap_names())):
             print(f"{title}: {', '.join(names)}")
+        from mjx_badger import spec, tasks
+
+        print("approach parameters: " + "; ".join(f"{name}: {', '.join(a.params)}"
+                                                  for name, a in APPROACHES.items() if a.params))
+        print("task parameters: " + "; ".join(f"{name}: {', '.join(tasks.task_params(name))}"
+                                              for name in TASKS if tasks.task_params(name)))
+        print(f"algorithm parameters: {', '.join(spec.AGENT_FIELDS)}")
         return 0
     if args.command == "train":
         if args.warmup_steps >= args.steps:
@@ -222,7 +242,9 @@ def train_config(args):
 
     return TrainConfig(approach=args.approach, algo=args.algo, task=args.task, total_steps=args.steps,
                        chunk_steps=args.chunk_steps, warmup_steps=args.warmup_steps, eval_steps=args.eval_steps,
-                       protocol=args.protocol, protocol_changes=tuple(args.changes), robot=args.robot)
+                       protocol=args.protocol, protocol_changes=tuple(args.changes), robot=args.robot,
+                       approach_params=tuple(args.approach_params), algo_params=tuple(args.algo_params),
+                       task_params=tuple(args.task_params))
 
 
 def train_command(args, config) -> int:

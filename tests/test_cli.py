@@ -130,3 +130,15 @@ def test_reproduce_reports_overall_progress_with_an_eta_from_the_measured_rate()
     assert overall_progress(0, 4, 0, 100, 0.0) == "run 1 of 4, 0 % of the gradient updates done"
     # A quarter of the work in 0.5 h: the other three quarters take 1.5 h.
     assert overall_progress(1, 4, 25, 100, 1800.0).endswith("25 % of the gradient updates done, ~1.5 h left at the rate so far")
+
+
+def test_train_takes_approach_algorithm_and_task_parameters_and_names_bad_ones(capsys):
+    from mjx_badger.cli import build_parser, train_config
+
+    args = build_parser().parse_args(["train", "--approach", "jt-lpf", "--approach-param", "cutoff_hz=2.0",
+                                      "--algo-param", "learning_rate=0.001", "--task-param", "target_velocity=0.3"])
+    config = train_config(args)
+    assert config.approach_params == (("cutoff_hz", 2.0),) and config.agent_config.learning_rate == 0.001
+    assert config.task_params == (("target_velocity", 0.3),)
+    err = _fails(capsys, ["train", "--approach", "jt-lpf", "--approach-param", "cutof=1", "--steps", "2000"])
+    assert "approach 'jt-lpf' takes cutoff_hz, not cutof" in err
