@@ -208,8 +208,8 @@ def filter_params(make: Callable) -> tuple:
 
 def filter_approach(name: str, label: str, color: str, make: Callable) -> Approach:
     """A JT approach whose filter is `make(dt, **params)`: a new filter is one `register(filter_approach(...))`."""
-    return Approach(name, "jt", label, color, lambda dt, protocol, spec, **params: joint_targets(make(dt, **params), spec),
-                    filter_params(make))
+    build = lambda dt, protocol, spec, **params: joint_targets(make(dt, **params), spec)
+    return Approach(name, "jt", label, color, build, filter_params(make))
 
 
 def is_cpg(approach: str) -> bool:

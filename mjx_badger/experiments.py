@@ -47,7 +47,8 @@ class Experiment:
     step_caps: dict = dataclasses.field(default_factory=dict)
     """profile -> {algo: steps}: fewer steps for algorithms a CPU cannot afford at that profile."""
     figures: tuple = ("forward", "gait")
-    """Figure kinds drawn from its results (plots.FIGURES); the first is `<name>_<profile>.png`, others add `_<kind>`."""
+    """Figure kinds drawn from its results (plots.FIGURES): the first is `<name>_<profile>.png`, the others
+    add `_<kind>` (`_vs_<baseline>` for 'versus')."""
     table: str = "comparison"
     """Its table of our numbers beside the thesis's (tables.TABLES)."""
     x_axis: str = "steps"

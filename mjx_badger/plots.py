@@ -114,7 +114,7 @@ def direction_figure(experiment: Experiment, documents: dict, out: Path, profile
     fig, axes = plt.subplots(len(rows), len(runs), figsize=(2.6 * len(runs), 2.3 * len(rows) + 0.8),
                              sharex=True, sharey="row", constrained_layout=True)
     for column, run in enumerate(runs):
-        speed = 0.5 * (1.0 if run.endswith("full") else 0.5)
+        speed = experiment.target_velocity * (1.0 if run.endswith("full") else 0.5)
         for row, (metric, ylabel) in enumerate(rows):
             ax = axes[row, column]
             curve_panel(ax, documents, f"eval/{run}/{metric}", run.replace("_", ", ") if row == 0 else "", ylabel
@@ -125,7 +125,8 @@ def direction_figure(experiment: Experiment, documents: dict, out: Path, profile
                 ax.set_ylabel("")
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=8)
-    fig.suptitle(f"{experiment.name}: deterministic evaluation every chunk in four directions at 0.5 and 0.25 m/s "
+    v = experiment.target_velocity
+    fig.suptitle(f"{experiment.name}: deterministic evaluation every chunk in four directions at {v} and {v / 2} m/s "
                  f"({profile}, {_seeds_note(documents)}); thesis {experiment.thesis_figure}", fontsize=10)
     return _save(fig, out)
 
@@ -141,7 +142,7 @@ def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: 
               ("eval/forward_velocity", "deterministic evaluation after each chunk", "forward velocity [m/s]"),
               ("train/falls", "falls during training (cumulative)", "falls"))
     return learning_curves(experiment, documents, out, profile, "steps", panels,
-                           ("Forward locomotion at 0.5 m/s, CrossQ", thesis))
+                           (f"Forward locomotion at {experiment.target_velocity} m/s, CrossQ", thesis))
 
 
 def forward_max_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
@@ -186,13 +187,13 @@ def pdec_versus_random_figure(pdec: dict, random: dict, out: Path, profile: str)
 
 def algorithms_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
     """Fig 5.2-style: velocity, episode return and falls vs simulated minutes for the four algorithms."""
-    thesis = ("CrossQ reaches 0.5 m/s after ~2 min, DroQ ~7; falls CrossQ ~14, DroQ ~32; "
+    thesis = ("CrossQ reaches 0.5 m/s after ~2 min, DroQ ~7; falls CrossQ ~14, DroQ ~32; "  # the thesis's words
               "SAC / SAC-UTD20 reach the target at lower velocities")
     panels = (("train/forward_velocity", "forward velocity (training)", "forward velocity [m/s]"),
               ("train/episode_return", "episode return (one episode: the protocol's seconds x control Hz steps)", "return"),
               ("train/falls", "falls during training (cumulative)", "falls"))
     return learning_curves(experiment, documents, out, profile, "minutes", panels,
-                           ("Algorithm comparison, JT-NF forward at 0.5 m/s", thesis))
+                           (f"Algorithm comparison, JT-NF forward at {experiment.target_velocity} m/s", thesis))
 
 
 FIGURES = {
@@ -212,8 +213,10 @@ FIGURES = {
 def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
     """Everything at a glance: the headline curve of every experiment with results, and falls per approach."""
     headline = {
-        "algo-comparison": ("train/forward_velocity", "algorithms (Fig 5.2): forward velocity", "minutes", 0.5),
-        "forward": ("train/forward_velocity", "forward 0.5 m/s (Fig 5.3): velocity", "steps", 0.5),
+        "algo-comparison": ("train/forward_velocity", "algorithms (Fig 5.2): forward velocity", "minutes",
+                            EXPERIMENTS["algo-comparison"].target_velocity),
+        "forward": ("train/forward_velocity", f"forward {EXPERIMENTS['forward'].target_velocity} m/s (Fig 5.3): velocity",
+                    "steps", EXPERIMENTS["forward"].target_velocity),
         "forward-max": ("train/forward_velocity", "maximal velocity (Fig 5.6): velocity", "steps", None),
         "omni-random": ("eval/desired_mae", "omni, random (Fig 5.9): desired MAE", "steps", None),
         "omni-pdec": ("eval/desired_mae", "omni, PDEC (Fig 5.12): desired MAE", "steps", None),

@@ -33,7 +33,8 @@ def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> st
     lines = [
         f"| {experiment.compares.replace('algo', 'algorithm')} "
         f"| seeds x steps{' (simulated min)' if by_minutes else ''} "
-        f"| {'minutes' if by_minutes else 'steps'} to 90 % of 0.5 m/s (ours / thesis) | final train velocity "
+        f"| {'minutes' if by_minutes else 'steps'} to 90 % of {experiment.target_velocity} m/s (ours / thesis) "
+        "| final train velocity "
         "| final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) | of which after warm-up "
         "| gait Hz (ours / thesis) |",
         "|---|---|---|---|---|---|---|---|",
