@@ -39,7 +39,7 @@ def old_model() -> mujoco.MjModel:
 def feet_only(spec: robot.RobotSpec) -> mujoco.MjModel:
     """The new robot with only the four foot-floor pairs."""
     spec_xml = robot.mjcf(spec)
-    for part in ("trunk", *(f"{leg}_{p}" for leg in robot.LEGS for p in ("thigh", "calf"))):
+    for part in ("trunk", *(f"{leg}_{p}" for leg in robot.HB40.legs for p in ("thigh", "calf"))):
         spec_xml = spec_xml.replace(f'<pair geom1="floor" geom2="{part}"/>', "")
     return mujoco.MjModel.from_xml_string(spec_xml)
 

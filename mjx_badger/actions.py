@@ -36,7 +36,7 @@ class ActionSpace(NamedTuple):
 
     @property
     def ctrl_size(self) -> int:
-        return 2 * robot.NUM_JOINTS if self.split_pd else robot.NUM_JOINTS
+        return 2 * self.spec.num_joints if self.split_pd else self.spec.num_joints
 
     def rest_ctrl(self):
         """PD targets of the standing robot, before any action."""
@@ -64,7 +64,7 @@ def joint_targets(filt: filters.Filter, spec: robot.RobotSpec = robot.HB40) -> A
     def observe(state):
         return state.target - nominal, jnp.zeros(0)
 
-    return ActionSpace(name="jt", size=robot.NUM_JOINTS, init=lambda: JTState(filt.init(nominal), nominal),
+    return ActionSpace(name="jt", size=spec.num_joints, init=lambda: JTState(filt.init(nominal), nominal),
                        step=step, observe=observe, predicted_name="joint_angle", spec=spec)
 
 
@@ -89,8 +89,8 @@ RESIDUAL_SCALE = np.tile([0.1, 0.2, 0.2], 4).astype(np.float32)
 RESIDUAL_MODES = ("torque-average", "angle-average", "angle-sum", "average-d-bug")
 # The released code's CPG stance: foot targets (0.05, +-0.02, -0.25) m in its IK's leg frames,
 # rear legs 0.02 m further back (C/control_functions/inverse_kinematics.py).
-THESIS_CODE_STANCE = np.stack([0.05 - 0.02 * (robot.FRONT_SIGN < 0), 0.02 * robot.LEFT_SIGN, np.full(4, -0.25)],
-                              axis=-1).astype(np.float32)
+THESIS_CODE_STANCE = np.stack([0.05 - 0.02 * (robot.HB40.front_sign < 0), 0.02 * robot.HB40.left_sign,
+                               np.full(4, -0.25)], axis=-1).astype(np.float32)
 
 
 class CPGActionState(NamedTuple):
@@ -101,7 +101,7 @@ class CPGActionState(NamedTuple):
 
 
 def central_pattern(dt: float, variable_frequency: bool = False, residual: str | None = None,
-                    protocol: Protocol = protocols.THESIS_CODE) -> ActionSpace:
+                    protocol: Protocol = protocols.THESIS_CODE, spec: robot.RobotSpec = robot.HB40) -> ActionSpace:
     """CPG (§4.3): trot foot heights + predicted offsets, through inverse kinematics.
 
     thesis-text: offsets on the foot positions around the nominal stance, then our IK.
@@ -120,11 +120,12 @@ def central_pattern(dt: float, variable_frequency: bool = False, residual: str |
     if residual is not None and residual not in RESIDUAL_MODES:
         raise ValueError(f"residual mode {residual!r} is not one of {RESIDUAL_MODES}")
     code = protocol.cpg_action == "joint-offsets"
-    nominal = jnp.asarray(robot.nominal_pose())
-    nominal_feet = jnp.asarray(kinematics.NOMINAL_FEET)
+    nominal = jnp.asarray(robot.nominal_pose(spec))
+    nominal_feet = jnp.asarray(kinematics.nominal_feet(spec))
     stance = jnp.asarray(THESIS_CODE_STANCE)
+    lower, upper = (limit.reshape(-1) for limit in robot.joint_limits(spec))
     low, high = CPG_FREQUENCY_RANGE_HZ
-    size = robot.NUM_JOINTS + int(variable_frequency) + (robot.NUM_JOINTS if residual else 0)
+    size = spec.num_joints + int(variable_frequency) + (spec.num_joints if residual else 0)
     kp, kd = protocol.cpg_pd_gains
 
     def step(state, action):
@@ -133,16 +134,16 @@ def central_pattern(dt: float, variable_frequency: bool = False, residual: str |
         advanced = cpg.advance(state.cpg, frequency, dt)
         # The released code reads the heights before it advances the phase (beat.py).
         phase = state.cpg.phase if protocol.cpg_heights_before_advance else advanced.phase
-        heights = cpg.foot_heights(phase)
+        heights = cpg.foot_heights(phase, spec=spec)
         lift = jnp.zeros((4, 3)).at[:, 2].set(heights)
         if code:
             offsets = action[:12] * JOINT_OFFSET_SCALE
             feet = stance + lift
-            angles = kinematics.thesis_code_ik(feet).reshape(-1) + offsets
+            angles = kinematics.thesis_code_ik(feet, spec).reshape(-1) + offsets
         else:
             offsets = action[:12] * FOOT_OFFSET_SCALE
             feet = nominal_feet + offsets.reshape(4, 3) + lift
-            angles = kinematics.inverse(feet).reshape(-1)
+            angles = kinematics.inverse(feet, spec).reshape(-1)
         if residual is None:
             ctrl = angles
         else:
@@ -154,8 +155,7 @@ def central_pattern(dt: float, variable_frequency: bool = False, residual: str |
             elif residual == "average-d-bug":
                 ctrl = 0.5 * (angles + residual_target) + 0.5 * kd * offsets / kp
             else:
-                ctrl = jnp.clip(angles + action[-12:] * RESIDUAL_SCALE, kinematics.JOINT_LOWER.reshape(-1),
-                                kinematics.JOINT_UPPER.reshape(-1))
+                ctrl = jnp.clip(angles + action[-12:] * RESIDUAL_SCALE, lower, upper)
         pair_heights = jnp.stack([heights[0], heights[1]])
         return CPGActionState(advanced, feet, offsets, pair_heights), ctrl
 
@@ -170,7 +170,7 @@ def central_pattern(dt: float, variable_frequency: bool = False, residual: str |
 
     return ActionSpace(name="cpg", size=size, init=init, step=step, observe=observe,
                        predicted_name="joint_angle" if code else "feet_position", extra_size=2,
-                       split_pd=residual == "torque-average")
+                       split_pd=residual == "torque-average", spec=spec)
 
 
 class Approach(NamedTuple):
@@ -217,10 +217,11 @@ def is_cpg(approach: str) -> bool:
     return APPROACHES[approach].kind == "cpg"
 
 
-def check_robot(approach: str, spec: robot.RobotSpec):
-    """Raise ValueError if `approach` cannot drive `spec`: the CPG's kinematics are the HB40's."""
-    if is_cpg(approach) and spec != robot.HB40:
-        raise ValueError(f"the CPG approaches run on the {robot.HB40.name} only, not on {spec.name}")
+def check_robot(approach: str, spec: robot.RobotSpec, protocol: Protocol):
+    """Raise ValueError if `approach` cannot drive `spec`: the released code's CPG IK is the HB40's own."""
+    if is_cpg(approach) and protocol.cpg_action == "joint-offsets" and spec != robot.HB40:
+        raise ValueError(f"the released code's CPG (cpg_action 'joint-offsets') runs on the {robot.HB40.name} only, "
+                         f"not on {spec.name}; its foot-offsets CPG runs on any robot")
 
 
 def check_params(approach: str, params: dict):
@@ -239,15 +240,15 @@ for _approach in (
     Approach("jt-nf", "jt", "JT-NF", "tab:red", _jt("none")),
     Approach("jt-lpf", "jt", "JT-LPF", "tab:blue", _jt("lowpass"), ("cutoff_hz",)),
     Approach("jt-oef", "jt", "JT-OEF", "tab:green", _jt("one_euro"), ("min_cutoff", "beta", "d_cutoff")),
-    Approach("cpg-d", "cpg", "CPG-D", "tab:purple", lambda dt, p, spec: central_pattern(dt, protocol=p)),
+    Approach("cpg-d", "cpg", "CPG-D", "tab:purple", lambda dt, p, spec: central_pattern(dt, protocol=p, spec=spec)),
     Approach("cpg-vf", "cpg", "CPG-VF", "tab:orange",
-             lambda dt, p, spec: central_pattern(dt, variable_frequency=True, protocol=p)),
+             lambda dt, p, spec: central_pattern(dt, variable_frequency=True, protocol=p, spec=spec)),
     Approach("cpg-rt", "cpg", "CPG-RT", "tab:brown",
-             lambda dt, p, spec: central_pattern(dt, residual=p.cpg_residual, protocol=p)),
+             lambda dt, p, spec: central_pattern(dt, residual=p.cpg_residual, protocol=p, spec=spec)),
     Approach("cpg-rt-avg", "cpg", "CPG-RT-avg", "tab:pink",
-             lambda dt, p, spec: central_pattern(dt, residual="angle-average", protocol=p)),
+             lambda dt, p, spec: central_pattern(dt, residual="angle-average", protocol=p, spec=spec)),
     Approach("cpg-rt-sum", "cpg", "CPG-RT-sum", "tab:gray",
-             lambda dt, p, spec: central_pattern(dt, residual="angle-sum", protocol=p)),
+             lambda dt, p, spec: central_pattern(dt, residual="angle-sum", protocol=p, spec=spec)),
 ):
     register(_approach)
 
@@ -255,6 +256,6 @@ for _approach in (
 def make_action_space(approach: str, dt: float, protocol: Protocol = protocols.THESIS_CODE,
                       spec: robot.RobotSpec = robot.HB40, **params) -> ActionSpace:
     """The action pipeline of `approach` at control period `dt` under `protocol`, on the robot `spec`."""
-    check_robot(approach, spec)
+    check_robot(approach, spec, protocol)
     check_params(approach, params)
     return APPROACHES[approach].build(dt, protocol, spec, **params)._replace(name=approach)

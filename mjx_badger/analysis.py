@@ -26,7 +26,6 @@ def display_color(name: str) -> str | None:
     return None if entry is None else entry.color
 
 
-LEGS = ("FL", "FR", "RL", "RR")
 DIRECTIONS = ("forward", "backward", "left", "right")
 REACHED_FRACTION = 0.9
 """A run has reached the target once the seed-mean training velocity is >= 90 % of it."""

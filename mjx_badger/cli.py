@@ -225,7 +225,7 @@ def realtime_command(args, config) -> int:
 
     # A real robot's adapter (interface.Robot) goes here in place of the simulated one.
     bot = SimulatedHB40(noise=None if args.no_sensor_noise else SensorNoise(), reset_seconds=args.reset_seconds,
-                        seed=args.seed)
+                        seed=args.seed, spec=config.robot_spec)
     try:
         document = loop.run(config, bot, args.out, resume=not args.restart, view=not args.quiet)
     except ValueError as error:

@@ -11,10 +11,15 @@ from typing import NamedTuple
 import jax.numpy as jnp
 import numpy as np
 
+from mjx_badger.robot import HB40, RobotSpec
+
 APEX_HEIGHT = 0.15
 SWING_FRACTION = 0.5
-# FL and RR swing together, FR and RL half a cycle later: the trot.
-LEG_PHASE_OFFSETS = np.array([0.0, 0.5, 0.5, 0.0])
+
+
+def leg_phase_offsets(spec: RobotSpec = HB40) -> np.ndarray:
+    """Per leg, 0 or half a cycle: the diagonal pairs (FL with RR, FR with RL) alternate, the trot."""
+    return np.where(spec.front_sign * spec.left_sign > 0, 0.0, 0.5)
 
 
 class CPGState(NamedTuple):
@@ -42,14 +47,14 @@ def swing_height(t, apex: float = APEX_HEIGHT):
     return jnp.where(t < 0.5, lift, lower)
 
 
-def leg_phases(phase):
+def leg_phases(phase, spec: RobotSpec = HB40):
     """Each leg's own phase (4,) in [0, 1)."""
-    return jnp.mod(phase + LEG_PHASE_OFFSETS, 1.0)
+    return jnp.mod(phase + leg_phase_offsets(spec), 1.0)
 
 
-def foot_heights(phase, apex: float = APEX_HEIGHT):
+def foot_heights(phase, apex: float = APEX_HEIGHT, spec: RobotSpec = HB40):
     """Foot height above the stance height (4,) for every leg at CPG phase `phase`."""
-    own = leg_phases(phase)
+    own = leg_phases(phase, spec)
     return jnp.where(own < SWING_FRACTION, swing_height(own / SWING_FRACTION, apex), 0.0)
 
 

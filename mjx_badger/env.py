@@ -119,7 +119,7 @@ class HB40Env(Env):
         self.mjx_model = mjx.put_model(self.mj_model)
         self._kp, self._kd = self.protocol.pd_gains(self.is_cpg)
         self._trunk = self.mj_model.body("trunk").id
-        self._feet = np.array([self.mj_model.geom(name).id for name in robot.FOOT_GEOMS])
+        self._feet = np.array([self.mj_model.geom(name).id for name in spec.foot_geoms])
         self._accel = robot.sensor_slice(self.mj_model, "accelerometer")
         self._gyro = robot.sensor_slice(self.mj_model, "gyro")
         self._trunk_half = jnp.asarray(spec.trunk_half_size)

@@ -10,9 +10,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from mjx_badger.actions import APPROACHES  # noqa: E402
-from mjx_badger.analysis import (DIRECTIONS, LEGS, display_color, display_name, gait_frequency,  # noqa: E402
+from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_frequency,  # noqa: E402
                                  load_experiment, series, summarize)
 from mjx_badger.experiments import EXPERIMENTS, Experiment  # noqa: E402
+from mjx_badger.robot import ROBOTS  # noqa: E402
 from mjx_badger.tables import TABLES  # noqa: E402
 
 
@@ -83,11 +84,12 @@ def gait_figure(experiment: Experiment, documents: dict, out: Path, profile: str
         window = int(round(1.0 / dt))
         contacts = np.asarray(gait["contacts"][0])[-window:]
         t = np.arange(len(contacts)) * dt
-        for leg in range(4):
+        legs = ROBOTS[document["config"].get("robot", "hb40")].legs
+        for leg in range(len(legs)):
             on = contacts[:, leg] > 0
             contact_ax.fill_between(t, leg - 0.4, leg + 0.4, where=on, color=display_color(label), step="post", lw=0)
-        contact_ax.set_yticks(range(4), LEGS)
-        contact_ax.set_ylim(3.6, -0.6)
+        contact_ax.set_yticks(range(len(legs)), legs)
+        contact_ax.set_ylim(len(legs) - 0.4, -0.6)
         thesis_hz = experiment.thesis_numbers.get(label, {}).get("gait_hz")
         contact_ax.set_title(f"{display_name(label)}: gait {gait_frequency(contacts, dt):.1f} Hz"
                              + (f" (thesis ~{thesis_hz} Hz)" if thesis_hz else ""), fontsize=9, loc="left")

@@ -18,15 +18,6 @@ import math
 import mujoco
 import numpy as np
 
-LEGS = ("FL", "FR", "RL", "RR")
-JOINTS_PER_LEG = ("hip", "thigh", "knee")
-JOINT_NAMES = tuple(f"{leg}_{joint}" for leg in LEGS for joint in JOINTS_PER_LEG)
-NUM_JOINTS = len(JOINT_NAMES)
-FOOT_GEOMS = tuple(f"{leg}_foot" for leg in LEGS)
-# Per leg (FL, FR, RL, RR): +1 front / -1 rear, +1 left / -1 right.
-FRONT_SIGN = np.array([1.0, 1.0, -1.0, -1.0])
-LEFT_SIGN = np.array([1.0, -1.0, 1.0, -1.0])
-
 
 def roll_pitch(rot, xp=np):
     """Roll and pitch (rad) of a body-to-world rotation matrix (3, 3); `xp` is numpy or jax.numpy."""
@@ -38,6 +29,9 @@ class RobotSpec:
     """Every figure of a quadruped of the HB40's layout; lengths in m, masses in kg, inertias in kg m^2."""
 
     name: str = "hb40"
+    legs: tuple = ("FL", "FR", "RL", "RR")
+    """Leg names, F(ront) or R(ear) then L(eft) or R(ight): the order of every per-leg array."""
+    joints_per_leg: tuple = ("hip", "thigh", "knee")
     hip_x: float = 0.1375
     """Hip (abduction) joints at (+-hip_x, +-hip_y, 0) in the trunk frame (plane.xml)."""
     hip_y: float = 0.064
@@ -110,6 +104,34 @@ class RobotSpec:
     through the reset drop onto the stiff, impratio-100 contacts (benchmarks/bench_contacts.py)."""
     solver_ls_iterations: int = 10
 
+    @property
+    def joint_names(self) -> tuple:
+        """Joint (and actuator) names, leg by leg: FL_hip, FL_thigh, FL_knee, FR_hip, ..."""
+        return tuple(f"{leg}_{joint}" for leg in self.legs for joint in self.joints_per_leg)
+
+    @property
+    def num_joints(self) -> int:
+        return len(self.legs) * len(self.joints_per_leg)
+
+    @property
+    def foot_geoms(self) -> tuple:
+        return tuple(f"{leg}_foot" for leg in self.legs)
+
+    @property
+    def front_sign(self) -> np.ndarray:
+        """Per leg: +1 front, -1 rear."""
+        return np.array([1.0 if leg[0] == "F" else -1.0 for leg in self.legs])
+
+    @property
+    def left_sign(self) -> np.ndarray:
+        """Per leg: +1 left, -1 right."""
+        return np.array([1.0 if leg[1] == "L" else -1.0 for leg in self.legs])
+
+    @property
+    def hip_positions(self) -> np.ndarray:
+        """Hip (abduction) joints in the trunk frame (legs, 3); a foot in the trunk frame is this + kinematics.forward()."""
+        return np.stack([self.front_sign * self.hip_x, self.left_sign * self.hip_y, np.zeros(len(self.legs))], axis=-1)
+
 
 HB40 = RobotSpec()
 
@@ -133,12 +155,22 @@ solids, and the thesis nominal pose read with thigh 0.6 rad behind vertical and 
 ahead of it (feet 0.33 m below the hips). Contacts and solver are the HB40's, so a swap to it
 moves geometry and inertia alone (attribution.py's 'robot geometry')."""
 
-ROBOTS = {spec.name: spec for spec in (HB40, HB40_FIRST_VERSION)}
+ROBOTS: dict = {}
+
+
+def register(spec: RobotSpec) -> RobotSpec:
+    """Add `spec` to ROBOTS under its name (replacing one of the same name)."""
+    ROBOTS[spec.name] = spec
+    return spec
+
+
+register(HB40)
+register(HB40_FIRST_VERSION)
 
 
 def joint_signs(spec: RobotSpec = HB40) -> np.ndarray:
     """(4, 3) sign that turns [hip, thigh, knee] of the spec's convention into each leg's joint angles."""
-    return np.stack([FRONT_SIGN * LEFT_SIGN, -LEFT_SIGN, -LEFT_SIGN], axis=-1)
+    return np.stack([spec.front_sign * spec.left_sign, -spec.left_sign, -spec.left_sign], axis=-1)
 
 
 def nominal_pose(spec: RobotSpec = HB40) -> np.ndarray:
@@ -148,16 +180,15 @@ def nominal_pose(spec: RobotSpec = HB40) -> np.ndarray:
 
 def jt_action_scale(spec: RobotSpec = HB40) -> np.ndarray:
     """Half-range (12,) of the joint-target actions around the nominal pose."""
-    return np.tile(spec.jt_action_scale, 4).astype(np.float32)
+    return np.tile(spec.jt_action_scale, len(spec.legs)).astype(np.float32)
 
 
 def joint_limits(spec: RobotSpec = HB40) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper joint limits (4, 3)."""
     low, high = spec.knee_range
-    upper = np.stack([np.full(4, spec.hip_range), np.full(4, spec.thigh_range),
-                      np.where(LEFT_SIGN > 0, high, -low)], axis=-1)
-    lower = np.stack([np.full(4, -spec.hip_range), np.full(4, -spec.thigh_range),
-                      np.where(LEFT_SIGN > 0, low, -high)], axis=-1)
+    left, n = spec.left_sign > 0, len(spec.legs)
+    upper = np.stack([np.full(n, spec.hip_range), np.full(n, spec.thigh_range), np.where(left, high, -low)], axis=-1)
+    lower = np.stack([np.full(n, -spec.hip_range), np.full(n, -spec.thigh_range), np.where(left, low, -high)], axis=-1)
     return lower, upper
 
 
@@ -193,7 +224,7 @@ def _link_quat(direction) -> str:
 
 
 def _leg(spec: RobotSpec, index: int) -> str:
-    leg, front, left = LEGS[index], FRONT_SIGN[index], LEFT_SIGN[index]
+    leg, front, left = spec.legs[index], spec.front_sign[index], spec.left_sign[index]
     knee = knee_offset(spec, left)
     foot = foot_offset(spec, left)
     lower, upper = joint_limits(spec)
@@ -218,9 +249,9 @@ def _leg(spec: RobotSpec, index: int) -> str:
       </body>"""
 
 
-def collision_geoms() -> tuple:
+def collision_geoms(spec: RobotSpec = HB40) -> tuple:
     """Geoms that touch the floor: trunk, and per leg the thigh motor, calf and foot."""
-    return ("trunk",) + tuple(f"{leg}_{part}" for leg in LEGS for part in ("thigh", "calf", "foot"))
+    return ("trunk",) + tuple(f"{leg}_{part}" for leg in spec.legs for part in ("thigh", "calf", "foot"))
 
 
 def mjcf(spec: RobotSpec = HB40, split_pd: bool = False) -> str:
@@ -232,11 +263,11 @@ def mjcf(spec: RobotSpec = HB40, split_pd: bool = False) -> str:
     """
     pd_share = 0.5 if split_pd else 1.0
     limit = spec.torque_limit * pd_share
-    actuators = [f'<position name="{name}" joint="{name}"/>' for name in JOINT_NAMES]
+    actuators = [f'<position name="{name}" joint="{name}"/>' for name in spec.joint_names]
     if split_pd:
-        actuators += [f'<position name="{name}_residual" joint="{name}"/>' for name in JOINT_NAMES]
-    pairs = [f'<pair geom1="floor" geom2="{geom}"/>' for geom in collision_geoms()]
-    legs = "".join(_leg(spec, i) for i in range(4))
+        actuators += [f'<position name="{name}_residual" joint="{name}"/>' for name in spec.joint_names]
+    pairs = [f'<pair geom1="floor" geom2="{geom}"/>' for geom in collision_geoms(spec)]
+    legs = "".join(_leg(spec, i) for i in range(len(spec.legs)))
     solref = _vec(spec.contact_solref)
     solimp = f"{spec.contact_solimp} {spec.contact_solimp} 0.001 0.5 2"
     return f"""<!-- {spec.name}: generated by mjx_badger.robot.mjcf from RobotSpec; edit the spec, not this text. -->
@@ -301,7 +332,7 @@ def set_pd_gains(model, kp: float, kd: float):
 
     A model with two PD actuators per joint (split_pd) gets half the gains in each.
     """
-    share = 0.5 if np.asarray(model.actuator_gainprm).shape[0] > NUM_JOINTS else 1.0
+    share = 0.5 if np.asarray(model.actuator_gainprm).shape[0] > model.njnt - 1 else 1.0  # njnt counts the free joint
     gain = np.zeros_like(np.asarray(model.actuator_gainprm))
     gain[:, 0] = kp * share
     bias = np.zeros_like(np.asarray(model.actuator_biasprm))

@@ -51,12 +51,17 @@ class RunSpec:
                 raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
         self.protocol_spec  # unknown protocol fields raise here
         actions.check_params(self.approach, dict(self.approach_params))
-        actions.check_robot(self.approach, robot.ROBOTS[self.robot])
+        actions.check_robot(self.approach, self.robot_spec, self.protocol_spec)
         tasks.check_params(self.task, dict(self.task_params))
         unknown = sorted(set(dict(self.algo_params)) - set(AGENT_FIELDS))
         if unknown:
             raise ValueError(f"algorithm parameters {', '.join(unknown)} are not AgentConfig fields; "
                              f"choose from {', '.join(AGENT_FIELDS)}")
+
+    @property
+    def robot_spec(self) -> "robot.RobotSpec":
+        """The robot description `robot` names."""
+        return robot.ROBOTS[self.robot]
 
     @property
     def protocol_spec(self) -> Protocol:

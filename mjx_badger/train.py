@@ -93,7 +93,7 @@ def make_train(config: TrainConfig) -> Trainer:
     env_config = config.env_config
     task = tasks.make_task(config.task, env_config.protocol.rewards, env_config.protocol.curriculum,
                            **dict(config.task_params))
-    env = HB40Env(config.approach, task, env_config, robot.ROBOTS[config.robot], config.approach_params)
+    env = HB40Env(config.approach, task, env_config, config.robot_spec, config.approach_params)
     agent = make_agent(cfg, env.observation_size, env.action_size)
     capacity = config.num_chunks * config.chunk_steps
 

@@ -20,7 +20,7 @@ def test_inverse_of_forward_over_the_reachable_workspace():
     hip = rng.uniform(-0.5, 0.5, (2000, 4))
     a = rng.uniform(-1.4, -0.17, (2000, 4))
     b = rng.uniform(0.3, 2.4, (2000, 4))
-    angles = np.stack([hip, robot.LEFT_SIGN * a, robot.LEFT_SIGN * b], axis=-1)
+    angles = np.stack([hip, robot.HB40.left_sign * a, robot.HB40.left_sign * b], axis=-1)
     feet = jax.vmap(kinematics.forward)(angles)
     below = np.asarray(jnp.all(feet[..., 2] < -0.05, axis=-1))
     feet = feet[below]
@@ -30,7 +30,7 @@ def test_inverse_of_forward_over_the_reachable_workspace():
 
 
 def test_nominal_pose_round_trip():
-    np.testing.assert_allclose(np.asarray(kinematics.inverse(kinematics.NOMINAL_FEET)).ravel(), robot.nominal_pose(),
+    np.testing.assert_allclose(np.asarray(kinematics.inverse(kinematics.nominal_feet())).ravel(), robot.nominal_pose(),
                                atol=1e-6)
 
 
@@ -39,7 +39,7 @@ def test_inverse_kinematics_never_returns_nan_and_respects_limits():
                         [[0.0, 0.0, -0.5]] * 4, [[0.2, -0.3, 0.4]] * 4])
     angles = np.asarray(jax.vmap(kinematics.inverse)(points))
     assert np.isfinite(angles).all()
-    assert (angles >= kinematics.JOINT_LOWER - 1e-6).all() and (angles <= kinematics.JOINT_UPPER + 1e-6).all()
+    assert (angles >= robot.joint_limits()[0] - 1e-6).all() and (angles <= robot.joint_limits()[1] + 1e-6).all()
     # Out of reach straight down: the leg stretches, its knee at the most open angle it reaches.
     stretched = np.asarray(kinematics.forward(angles[3]))
     assert (np.linalg.norm(stretched[:, [0, 2]], axis=-1) > 0.39).all()
@@ -101,8 +101,8 @@ def test_cpg_d_with_zero_action_follows_the_trot_from_the_nominal_feet():
         state, ctrl = space.step(state, jnp.zeros(12))
     assert float(state.cpg.phase) == pytest.approx(0.25)
     feet = np.asarray(kinematics.forward(ctrl))
-    np.testing.assert_allclose(feet[:, 2] - kinematics.NOMINAL_FEET[:, 2], [0.15, 0.0, 0.0, 0.15], atol=1e-5)
-    np.testing.assert_allclose(feet[:, :2], kinematics.NOMINAL_FEET[:, :2], atol=1e-5)
+    np.testing.assert_allclose(feet[:, 2] - kinematics.nominal_feet()[:, 2], [0.15, 0.0, 0.0, 0.15], atol=1e-5)
+    np.testing.assert_allclose(feet[:, :2], kinematics.nominal_feet()[:, :2], atol=1e-5)
 
 
 def test_cpg_vf_frequency_spans_1_to_4_hz():
@@ -116,7 +116,7 @@ def test_cpg_vf_frequency_spans_1_to_4_hz():
 def test_foot_offsets_are_bounded_by_table_4_2():
     space = actions.make_action_space("cpg-d", 0.025, TEXT)
     state, _ = space.step(space.init(), jnp.full(12, 5.0))  # clipped to +1
-    offsets = np.asarray(state.feet - kinematics.NOMINAL_FEET)
+    offsets = np.asarray(state.feet - kinematics.nominal_feet())
     np.testing.assert_allclose(offsets[:, 0], 0.15, atol=1e-6)
     np.testing.assert_allclose(offsets[:, 1], 0.15, atol=1e-6)
     assert offsets[:, 2].max() <= 0.1 + cpg.APEX_HEIGHT + 1e-6
@@ -133,8 +133,8 @@ def test_residual_combinations():
     _, averaged = actions.make_action_space("cpg-rt-avg", 0.025, TEXT).step(torque.init(), action)
     np.testing.assert_allclose(averaged, 0.5 * (cpg_angles + residual), atol=1e-6)
     _, summed = actions.make_action_space("cpg-rt-sum", 0.025, TEXT).step(torque.init(), action)
-    expected = np.clip(cpg_angles + actions.RESIDUAL_SCALE, kinematics.JOINT_LOWER.ravel(),
-                       kinematics.JOINT_UPPER.ravel())
+    expected = np.clip(cpg_angles + actions.RESIDUAL_SCALE, robot.joint_limits()[0].ravel(),
+                       robot.joint_limits()[1].ravel())
     np.testing.assert_allclose(summed, expected, atol=1e-6)
 
 

@@ -1,12 +1,15 @@
-"""A newcomer's extensions, registered from this module alone: a filter, an algorithm variant, a task."""
+"""A newcomer's extensions, registered from this module alone: a filter, an algorithm variant, a task, a robot."""
+
+import dataclasses
 
 import jax
 import jax.numpy as jnp
+import mujoco
 import numpy as np
 import pytest
 
 from conftest import seed_keys
-from mjx_badger import actions, analysis, filters, tasks
+from mjx_badger import actions, analysis, filters, kinematics, protocols, robot, tasks
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.agents.config import Algorithm, crossq
 from mjx_badger.train import TrainConfig, make_train
@@ -17,22 +20,27 @@ def moving_average(dt: float, weight: float = 0.5) -> filters.Filter:
     return filters.Filter(init=lambda x0: jnp.asarray(x0), step=lambda y, x: (weight * x + (1 - weight) * y,) * 2)
 
 
+# The toy robot: an HB40 with 4 cm longer calves and a heavier trunk, dropped from a little higher.
+LONG_LEGS = dataclasses.replace(robot.HB40, name="hb40-long", calf_length=0.24, trunk_mass=7.0, home_height=0.35)
+
+
 @pytest.fixture
 def toys():
     """Register the toys the way the README says, and take them out again afterwards."""
     actions.register(actions.filter_approach("jt-toy", "JT-TOY", "tab:olive", moving_average))
     ALGORITHMS["toy-crossq"] = Algorithm(lambda: crossq().replace(name="toy-crossq", hidden=(16, 16)), "Toy", "k")
     tasks.TASKS["slow-walk"] = lambda form, rules: tasks.forward(0.2, form=form)
+    robot.register(LONG_LEGS)
     yield
-    del actions.APPROACHES["jt-toy"], ALGORITHMS["toy-crossq"], tasks.TASKS["slow-walk"]
+    del actions.APPROACHES["jt-toy"], ALGORITHMS["toy-crossq"], tasks.TASKS["slow-walk"], robot.ROBOTS["hb40-long"]
 
 
 def test_registered_toys_train_a_smoke_run_and_show_in_figures(toys):
     config = TrainConfig(approach="jt-toy", algo="toy-crossq", task="slow-walk", total_steps=150, chunk_steps=50,
-                         warmup_steps=100, eval_steps=20, approach_params=(("weight", 0.25),))
+                         warmup_steps=100, eval_steps=20, approach_params=(("weight", 0.25),), robot="hb40-long")
     config.validate()
     trainer = make_train(config)
-    assert trainer.env.action_space.name == "jt-toy"
+    assert trainer.env.action_space.name == "jt-toy" and trainer.env.spec is LONG_LEGS
     carry = jax.jit(jax.vmap(trainer.init))(seed_keys([0, 1]))
     chunk = jax.jit(jax.vmap(trainer.chunk, in_axes=(0, None)))
     for index in range(config.num_chunks):
@@ -70,3 +78,28 @@ def test_the_low_pass_cutoff_is_a_parameter():
 def test_a_kind_outside_jt_and_cpg_is_refused():
     with pytest.raises(ValueError, match="kind 'wheel' is not one of"):
         actions.register(actions.Approach("wheels", "wheel", "W", "k", lambda dt, p, spec: None))
+
+
+def test_a_registered_robot_is_built_from_its_spec(toys):
+    """The toy robot's model and kinematics both come from its spec: FK equals native MuJoCo's feet."""
+    model = robot.load_model(LONG_LEGS)
+    assert model.body("trunk").mass[0] == 7.0
+    data = mujoco.MjData(model)
+    data.qpos[:] = robot.standing_qpos(model, LONG_LEGS)
+    mujoco.mj_forward(model, data)
+    native = np.array([data.geom(f"{leg}_foot").xpos - data.body(f"{leg}_hip").xpos for leg in LONG_LEGS.legs])
+    np.testing.assert_allclose(np.asarray(kinematics.forward(robot.nominal_pose(LONG_LEGS), LONG_LEGS)), native,
+                               atol=1e-6)
+    assert native[:, 2].min() < kinematics.nominal_feet()[:, 2].min() - 0.02  # the longer calves stand taller
+    with pytest.raises(ValueError, match="unknown robot 'hb50'; choose from hb40, hb40-v1"):
+        TrainConfig(robot="hb50")
+
+
+def test_the_foot_offset_cpg_stands_any_robot_on_its_own_nominal_feet(toys):
+    """thesis-text's CPG inverts the spec's own kinematics; the released code's IK is the HB40's alone."""
+    space = actions.make_action_space("cpg-d", 0.025, protocols.THESIS_TEXT, LONG_LEGS)
+    _, ctrl = space.step(space.init(), jnp.zeros(space.size))
+    stance = np.asarray(kinematics.forward(ctrl, LONG_LEGS))[[1, 2]]  # FR and RL stand while FL and RR swing
+    np.testing.assert_allclose(stance, kinematics.nominal_feet(LONG_LEGS)[[1, 2]], atol=1e-5)
+    with pytest.raises(ValueError, match="runs on the hb40 only, not on hb40-long"):
+        TrainConfig(approach="cpg-d", protocol="thesis-code", robot="hb40-long")

@@ -32,14 +32,14 @@ def standing_trajectory(velocity, dt, seconds, swinging_leg=None, noise=0.0, see
     rng = np.random.default_rng(seed)
     times = np.arange(0.0, seconds, dt)
     fine = 20  # integrate the trunk position more finely than the control period
-    feet_world = kinematics.HIP_POSITIONS + kinematics.NOMINAL_FEET
+    feet_world = robot.HB40.hip_positions + kinematics.nominal_feet()
     readings, truth, position = [], [], np.zeros(3)
 
     def angles_at(position, t):
         feet = feet_world - position
         if swinging_leg is not None:
             feet[swinging_leg, 0] += 0.3 * t
-        return np.asarray(kinematics.inverse(feet - kinematics.HIP_POSITIONS)).reshape(-1)
+        return np.asarray(kinematics.inverse(feet - robot.HB40.hip_positions)).reshape(-1)
 
     for t in times:
         v = velocity(t)

@@ -30,7 +30,7 @@ def _standing_data(model, kp=60.0, kd=3.0):
 
 
 def _feet_xy(model, data):
-    return np.array([data.geom(name).xpos[:2] for name in robot.FOOT_GEOMS])
+    return np.array([data.geom(name).xpos[:2] for name in robot.HB40.foot_geoms])
 
 
 def test_model_figures_are_the_thesis_codes():
@@ -55,10 +55,10 @@ def test_nominal_pose_puts_each_foot_where_the_thesis_code_model_does():
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
     mujoco.mj_forward(model, data)
-    for i, leg in enumerate(robot.LEGS):
+    for i, leg in enumerate(robot.HB40.legs):
         foot = data.geom(f"{leg}_foot").xpos - data.body(f"{leg}_hip").xpos
         assert abs(-foot[2] - 0.252) < 0.002, f"{leg} foot {-foot[2]:.4f} m below its hip"
-        assert abs(robot.LEFT_SIGN[i] * foot[1] - 0.102) < 0.002, f"{leg} foot {foot[1]:.4f} m to the side"
+        assert abs(robot.HB40.left_sign[i] * foot[1] - 0.102) < 0.002, f"{leg} foot {foot[1]:.4f} m to the side"
     # The thesis's [0.1, 0.6, -1.2] in their convention: left legs (0.1/-0.1, -0.6, 1.2), right legs mirrored.
     np.testing.assert_allclose(robot.nominal_pose().reshape(4, 3),
                                [[0.1, -0.6, 1.2], [-0.1, 0.6, -1.2], [-0.1, -0.6, 1.2], [0.1, 0.6, -1.2]], atol=1e-7)
@@ -69,17 +69,17 @@ def test_forward_kinematics_matches_native_mujoco_and_inverts():
     data = mujoco.MjData(model)
     rng = np.random.default_rng(0)
     for _ in range(5):
-        q = rng.uniform(kinematics.JOINT_LOWER * 0.6, kinematics.JOINT_UPPER * 0.6).reshape(-1)
+        q = rng.uniform(robot.joint_limits()[0] * 0.6, robot.joint_limits()[1] * 0.6).reshape(-1)
         data.qpos[:] = robot.standing_qpos(model, pose=q)
         mujoco.mj_forward(model, data)
-        native = np.array([data.geom(f"{leg}_foot").xpos - data.body(f"{leg}_hip").xpos for leg in robot.LEGS])
+        native = np.array([data.geom(f"{leg}_foot").xpos - data.body(f"{leg}_hip").xpos for leg in robot.HB40.legs])
         np.testing.assert_allclose(np.asarray(kinematics.forward(q)), native, atol=1e-6)
         np.testing.assert_allclose(np.asarray(kinematics.inverse(native)).reshape(-1), q, atol=1e-5)
 
 
 def test_thesis_code_ik_stands_the_feet_0_30_m_below_the_hips():
     """THESIS_CODE §2: the code's IK asks for 0.25 m but its angles on the model give ~0.30 m."""
-    angles = kinematics.thesis_code_ik(np.asarray([[0.05, 0.02 * s, -0.25] for s in robot.LEFT_SIGN]))
+    angles = kinematics.thesis_code_ik(np.asarray([[0.05, 0.02 * s, -0.25] for s in robot.HB40.left_sign]))
     feet = np.asarray(kinematics.forward(angles))
     np.testing.assert_allclose(-feet[:, 2], 0.303, atol=0.005)
     # Hips 0.08 rad outward on every leg, same signs as the nominal pose.
@@ -93,11 +93,11 @@ def test_first_version_robot_stands_its_feet_in_one_plane_0_33_m_below_the_hips(
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model, spec)
     mujoco.mj_forward(model, data)
-    for i, leg in enumerate(robot.LEGS):
+    for i, leg in enumerate(robot.HB40.legs):
         foot = data.geom(f"{leg}_foot").xpos - data.body(f"{leg}_hip").xpos
         np.testing.assert_allclose(-foot[2], 0.33 * np.cos(0.1) - 0.0125 * np.sin(0.1), atol=1e-3)
-        np.testing.assert_allclose(robot.LEFT_SIGN[i] * foot[1], 0.0125 * np.cos(0.1) + 0.33 * np.sin(0.1), atol=1e-3)
-        assert abs(foot[0] - robot.FRONT_SIGN[i] * 0.0555) < 1e-6  # thigh back, calf forward: under the thigh joint
+        np.testing.assert_allclose(robot.HB40.left_sign[i] * foot[1], 0.0125 * np.cos(0.1) + 0.33 * np.sin(0.1), atol=1e-3)
+        assert abs(foot[0] - robot.HB40.front_sign[i] * 0.0555) < 1e-6  # thigh back, calf forward: under the thigh joint
     # Its knees fold from straight: left knees negative, right positive.
     np.testing.assert_allclose(model.jnt_range[1 + 2], [-2.53, 0.0])
     np.testing.assert_allclose(model.jnt_range[1 + 5], [0.0, 2.53])

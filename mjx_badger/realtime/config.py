@@ -60,7 +60,7 @@ class RealtimeConfig(RunSpec):
                              "or cpg-rt-sum")
         if self.planned_contacts and not is_cpg(self.approach):
             raise ValueError("planned contacts come from the CPG's phase; the joint-target approaches have none")
-        physics_hz = round(1.0 / robot.HB40.physics_dt)
+        physics_hz = round(1.0 / self.robot_spec.physics_dt)
         if not 1.0 <= self.hz <= physics_hz:
             raise ValueError(f"control rate {self.hz} Hz must lie in [1, {physics_hz}] Hz")
         if self.steps < 1 or self.warmup_steps < 0:

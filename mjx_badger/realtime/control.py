@@ -58,8 +58,8 @@ def build(config: RealtimeConfig):
     config.validate()
     protocol = config.protocol_spec.replace(episode_seconds=config.episode_seconds)
     task = config.make_task()
-    env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, protocol=protocol),
-                  approach_params=config.approach_params)
+    env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, protocol=protocol), config.robot_spec,
+                  config.approach_params)
     agent = make_agent(config.agent_config, env.observation_size, env.action_size)
     has_cpg = is_cpg(config.approach)
 
@@ -76,7 +76,8 @@ def build(config: RealtimeConfig):
                            agent.act(agent_state, obs, act_key, deterministic=False))
         action_state, target = env.action_space.step(action_state, action)
         # The legs the CPG plans on the ground, for the estimator's optional contact model.
-        stance = cpg.foot_heights(action_state.cpg.phase) <= 1e-6 if has_cpg else jnp.ones(4, bool)
+        stance = (cpg.foot_heights(action_state.cpg.phase, spec=env.spec) <= 1e-6 if has_cpg
+                  else jnp.ones(len(env.spec.legs), bool))
         return obs, reward, task_state, action, action_state, target, stance
 
     @jax.jit
@@ -90,14 +91,14 @@ def build(config: RealtimeConfig):
 
 def compile_all(env, tick, evaluate_tick, update, agent_state, task_state, batch_size):
     """Trace and compile every jitted function before the robot moves, so the first period is on time."""
-    zeros = np.zeros(robot.NUM_JOINTS, np.float32)
+    zeros = np.zeros(env.spec.num_joints, np.float32)
     three = np.zeros(3, np.float32)
     measured = Measured(zeros, zeros, zeros, three, three, three, three, np.eye(3, dtype=np.float32))
     command = np.zeros(3, np.float32)
     key = jax.random.PRNGKey(0)
     for explore in (True, False):
         jax.block_until_ready(tick(agent_state, env.action_space.init(), task_state, command, measured, key, explore))
-    leg_odometry(Sensors(0.0, zeros, zeros, zeros, three, three, np.array([1.0, 0.0, 0.0, 0.0])))
+    leg_odometry(Sensors(0.0, zeros, zeros, zeros, three, three, np.array([1.0, 0.0, 0.0, 0.0])), env.spec)
     jax.block_until_ready(evaluate_tick(agent_state, env.action_space.init(), command, measured))
     batch = Transition(np.zeros((batch_size, env.observation_size), np.float32),
                        np.zeros((batch_size, env.action_size), np.float32), np.zeros(batch_size, np.float32),
@@ -179,13 +180,13 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
         out = session.tick(session.learner.state, action_state, task_state, command,
                            measure(sensors, prev_gyro, velocity), step_key, progress.step < config.warmup_steps)
         obs, reward, task_state, action, next_action_state, target, stance_out = out
-        trip = safety.check(sensors)
+        trip = safety.check(sensors, session.env.spec)
         stepping = previous is not None
         last = episode_step == episode_steps or progress.step + stepping >= config.steps or session.stop.is_set()
         if trip:
             bot.damp()
         elif not last:
-            bot.command(np.asarray(target), *robot.ROBOTS[config.robot].pd_gains)
+            bot.command(np.asarray(target), *session.env.spec.pd_gains)
         obs, reward = np.asarray(obs), float(reward)
         if stepping:
             session.buffer.add(previous[0], previous[1], reward, obs, 0.0 if trip else 1.0)
@@ -238,13 +239,13 @@ def evaluate(session: Session, evaluate_tick, agent_state, task, key) -> dict:
     for _ in range(int(config.eval_seconds * config.hz)):
         sensors = bot.read()
         velocity = estimator.update(sensors, period, None)
-        fell = safety.check(sensors)
+        fell = safety.check(sensors, session.env.spec)
         if fell:
             bot.damp()
             break
         action_state, target = evaluate_tick(agent_state, action_state, command,
                                              measure(sensors, prev_gyro, velocity))
-        bot.command(np.asarray(target), *robot.ROBOTS[config.robot].pd_gains)
+        bot.command(np.asarray(target), *session.env.spec.pd_gains)
         prev_gyro = sensors.angular_velocity
         estimated.append(velocity[0])
         true.append(bot.truth()["linear_velocity"][0] if hasattr(bot, "truth") else np.nan)

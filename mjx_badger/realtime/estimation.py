@@ -10,20 +10,22 @@ thesis found on the robot (Fig 2.1).
 """
 
 import dataclasses
+import functools
 
 import jax
 import numpy as np
 
 from mjx_badger import kinematics
+from mjx_badger.robot import HB40, RobotSpec
 from mjx_badger.realtime.interface import Sensors, rotation_matrix
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
 
 
-@jax.jit
-def _feet_motion(joint_angle, joint_velocity):
+@functools.partial(jax.jit, static_argnums=2)
+def _feet_motion(joint_angle, joint_velocity, spec: RobotSpec):
     """Foot positions and velocities (4, 3) in the hip frames."""
-    return jax.jvp(kinematics.forward, (joint_angle,), (joint_velocity,))
+    return jax.jvp(functools.partial(kinematics.forward, spec=spec), (joint_angle,), (joint_velocity,))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -36,18 +38,19 @@ class KalmanConfig:
     """m/s: foot slip and contact-timing error of the leg odometry."""
 
 
-def leg_odometry(sensors: Sensors) -> np.ndarray:
+def leg_odometry(sensors: Sensors, spec: RobotSpec = HB40) -> np.ndarray:
     """Trunk-frame trunk velocity (4, 3) each foot implies if it stands still on the ground."""
-    feet, feet_velocity = (np.asarray(x) for x in _feet_motion(sensors.joint_angle, sensors.joint_velocity))
-    in_trunk = kinematics.HIP_POSITIONS + feet
+    feet, feet_velocity = (np.asarray(x) for x in _feet_motion(sensors.joint_angle, sensors.joint_velocity, spec))
+    in_trunk = spec.hip_positions + feet
     return -(feet_velocity + np.cross(sensors.angular_velocity, in_trunk))
 
 
 class VelocityEstimator:
     """The Kalman filter; `update` once per control step returns the trunk-frame velocity."""
 
-    def __init__(self, config: KalmanConfig = KalmanConfig()):
+    def __init__(self, config: KalmanConfig = KalmanConfig(), spec: RobotSpec = HB40):
         self.config = config
+        self.spec = spec
         self.reset()
 
     def reset(self):
@@ -60,9 +63,9 @@ class VelocityEstimator:
         rotation = rotation_matrix(sensors.orientation)
         self.velocity = self.velocity + (rotation @ sensors.acceleration + GRAVITY) * dt
         self.covariance = self.covariance + np.eye(3) * (self.config.acceleration_std * dt) ** 2
-        stance = np.ones(4, bool) if contacts is None else np.asarray(contacts, bool)
+        stance = np.ones(len(self.spec.legs), bool) if contacts is None else np.asarray(contacts, bool)
         if stance.any():
-            measured = rotation @ leg_odometry(sensors)[stance].mean(axis=0)
+            measured = rotation @ leg_odometry(sensors, self.spec)[stance].mean(axis=0)
             noise = np.eye(3) * self.config.odometry_std ** 2 / stance.sum()
             gain = self.covariance @ np.linalg.inv(self.covariance + noise)
             self.velocity = self.velocity + gain @ (measured - self.velocity)

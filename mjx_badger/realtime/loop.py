@@ -72,7 +72,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
         bot.start()
         learner.start()
         scheduling.nice_compute_threads()
-        session = control.Session(config, bot, env, tick, learner, buffer, progress, VelocityEstimator(kalman),
+        session = control.Session(config, bot, env, tick, learner, buffer, progress, VelocityEstimator(kalman, env.spec),
                                   timing, View(view, config, progress, learner, timing), stop)
         try:
             fresh = True

@@ -35,10 +35,12 @@ class SensorNoise:
 
 
 class SimulatedHB40:
-    """The HB40 in native MuJoCo with its physics thread; implements `interface.Robot`."""
+    """The HB40 (or another robot spec) in native MuJoCo with its physics thread; implements `interface.Robot`."""
 
-    def __init__(self, noise: SensorNoise | None = SensorNoise(), reset_seconds: float = 2.0, seed: int = 0):
-        self.model = robot.load_model()
+    def __init__(self, noise: SensorNoise | None = SensorNoise(), reset_seconds: float = 2.0, seed: int = 0,
+                 spec: robot.RobotSpec = robot.HB40):
+        self.spec = spec
+        self.model = robot.load_model(spec)
         self.data = mujoco.MjData(self.model)
         self.noise = noise
         self.reset_seconds = reset_seconds
@@ -50,9 +52,9 @@ class SimulatedHB40:
         self._lock = threading.Lock()
         self._running = threading.Event()
         self._thread: threading.Thread | None = None
-        self._gains = robot.HB40.pd_gains
+        self._gains = self.spec.pd_gains
         self._applied_gains = None
-        self._targets = np.asarray(robot.nominal_pose(), dtype=np.float64)
+        self._targets = np.asarray(robot.nominal_pose(self.spec), dtype=np.float64)
         self._trunk = self.model.body("trunk").id
         self._accel = robot.sensor_slice(self.model, "accelerometer")
         self._gyro = robot.sensor_slice(self.model, "gyro")
@@ -81,7 +83,7 @@ class SimulatedHB40:
 
     def damp(self) -> None:
         with self._lock:
-            self._gains = robot.HB40.damping_gains
+            self._gains = self.spec.damping_gains
             self.damp_calls += 1
 
     def reset(self) -> None:
@@ -118,9 +120,9 @@ class SimulatedHB40:
 
     def _stand(self):
         mujoco.mj_resetData(self.model, self.data)
-        self.data.qpos[:] = robot.standing_qpos(self.model)
-        self._targets = np.asarray(robot.nominal_pose(), dtype=np.float64)
-        self._gains = robot.HB40.pd_gains
+        self.data.qpos[:] = robot.standing_qpos(self.model, self.spec)
+        self._targets = np.asarray(robot.nominal_pose(self.spec), dtype=np.float64)
+        self._gains = self.spec.pd_gains
         self.data.ctrl[:] = self._targets
         mujoco.mj_forward(self.model, self.data)
         self._sensors = self._measure()
