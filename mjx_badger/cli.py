@@ -1,262 +1,313 @@
-"""Command line: `python -m mjx_badger {train,reproduce,figures,realtime,list}`.
+"""Command line: `python -m mjx_badger {train,reproduce,figures,claims,attribute,realtime,list}`.
 
-Every argument is checked before anything is compiled; bad input gets one message naming
-the valid choices and exit code 2.
+tyro builds every option from the dataclasses below and the run specs they hold
+(TrainConfig, RealtimeConfig), so each option is declared once, its docstring its help.
+Every argument is checked before anything is compiled; bad input gets one line naming what
+is wrong (and the valid choices) and exit code 2.
 """
 
-import argparse
+import contextlib
+import dataclasses
+import io
 import json
 import os
+import re
 import sys
 import time
 from pathlib import Path
+from typing import Annotated, Literal, Optional
+
+import tyro
 
 from mjx_badger import enable_compilation_cache
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
 from mjx_badger.protocols import FIELDS, PROTOCOLS
+from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.robot import ROBOTS
 from mjx_badger.tasks import TASKS
+from mjx_badger.train import TrainConfig
 
 # Seed-steps (one env step and one update each) per second of CrossQ with JT on the 2-core
 # CPU this suite is developed on (benchmarks/bench_spine.py); only used to print an
 # estimate before a long run starts, counting updates as the cost.
 CPU_SEED_STEPS_PER_S = 174.0
 
-
-def positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
-    return value
+DESCRIPTION = "mjx_badger: the thesis's simulation experiments on MJX, their claims scored, and the on-robot loop."
+Profile = Literal[tuple(PROFILES)]
+ProtocolName = Literal[tuple(PROTOCOLS)]
+ExperimentName = Literal[tuple(EXPERIMENTS)]
+Flat = tyro.conf.arg(name="")
+"""A nested run spec whose fields are the command's own options (--approach, not --run.approach)."""
 
 
-def writable_dir(parser: argparse.ArgumentParser, path: Path, what: str) -> Path:
-    """Create `path` if needed and prove it is writable, or exit 2 with a message."""
+def writable_dir(path: Path, what: str) -> None:
+    """Create `path` if needed and prove it is writable, or raise ValueError."""
     try:
         path.mkdir(parents=True, exist_ok=True)
         probe = path / f".write-test-{os.getpid()}"
         probe.write_text("")
         probe.unlink()
     except OSError as error:
-        parser.error(f"{what} {str(path)!r} is not writable: {error.strerror or error}")
-    return path
+        raise ValueError(f"{what} {str(path)!r} is not writable: {error.strerror or error}") from None
 
 
-def name_value(text: str) -> tuple:
-    """NAME=VALUE with VALUE read as a Python literal (a bare word stays a string)."""
-    import ast
-
-    name, sep, value = text.partition("=")
-    if not sep or not name:
-        raise argparse.ArgumentTypeError(f"expected NAME=VALUE; got {text!r}")
-    try:
-        parsed = ast.literal_eval(value)
-    except (ValueError, SyntaxError):
-        parsed = value  # a bare word such as thesis-text or butterworth
-    return name, tuple(parsed) if isinstance(parsed, list) else parsed
+def _progress_bar() -> bool:
+    return sys.stderr.isatty() or os.environ.get("CI") is None
 
 
-def protocol_change(text: str) -> tuple:
-    """FIELD=VALUE, one protocol field set by hand (a one-factor swap)."""
-    field, value = name_value(text) if "=" in text else (text, None)
-    if "=" not in text or field not in FIELDS:
-        raise argparse.ArgumentTypeError(f"expected FIELD=VALUE with FIELD one of: {', '.join(FIELDS)}; got {text!r}")
-    return field, value
+@dataclasses.dataclass(frozen=True)
+class Train:
+    """Train one configuration over many seeds in one vmapped program."""
+
+    run: Annotated[TrainConfig, Flat] = TrainConfig()
+    seeds: int = 3
+    """Number of seeds, run in parallel."""
+    first_seed: int = 0
+    out: Path = Path("results")
+    """Folder for the results file."""
+    quiet: bool = False
+    """No progress bar."""
+
+    def check(self) -> None:
+        if self.seeds <= 0:
+            raise ValueError(f"--seeds must be a positive number, not {self.seeds}")
+        writable_dir(self.out, "output folder")
+
+    def __call__(self) -> int:
+        from mjx_badger import runner
+
+        config = self.run
+        seeds = list(range(self.first_seed, self.first_seed + self.seeds))
+        out = self.out / f"{config.name}.json"
+        print(f"protocol {config.protocol}, robot {config.robot}"
+              + "".join(f", {k}={v!r}" for k, v in config.protocol_changes))
+        document = runner.run(config, seeds, out, progress=not self.quiet)
+        print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
+              f"compile {document['wall_clock']['compile_s']} s)")
+        return 0
 
 
-def add_protocol_argument(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--protocol", choices=list(PROTOCOLS), default="thesis-code",
-                        help="thesis-code: as the thesis's released code ran it; thesis-text: as the thesis reads")
+@dataclasses.dataclass(frozen=True)
+class Reproduce:
+    """Run the thesis experiments of a profile (complete runs are kept), then draw figures and score the claims."""
+
+    profile: Profile = "quick"
+    """quick: a CPU in hours; full: the thesis's budgets, a GPU."""
+    protocol: ProtocolName = "thesis-code"
+    """thesis-code: as the thesis's released code ran it; thesis-text: as the thesis reads."""
+    experiments: tuple[ExperimentName, ...] = tuple(EXPERIMENTS)
+    results_dir: Path = Path("results")
+    figures_dir: Path = Path("figures")
+    force: bool = False
+    """Rerun runs whose complete results exist."""
+
+    def check(self) -> None:
+        writable_dir(self.results_dir, "results folder")
+        writable_dir(self.figures_dir, "figures folder")
+
+    def __call__(self) -> int:
+        return reproduce_command(self)
 
 
-def add_configuration_arguments(parser: argparse.ArgumentParser) -> None:
-    """--approach, --algo and --task, shared by the commands that train one configuration."""
-    parser.add_argument("--approach", choices=list(APPROACHES), default="jt-oef")
-    parser.add_argument("--algo", choices=list(ALGORITHMS), default="crossq")
-    parser.add_argument("--task", choices=list(TASKS), default="forward")
+@dataclasses.dataclass(frozen=True)
+class Figures:
+    """Draw the figures and tables of existing results."""
+
+    profile: Profile = "quick"
+    protocol: ProtocolName = "thesis-code"
+    results_dir: Path = Path("results")
+    figures_dir: Path = Path("figures")
+
+    def check(self) -> None:
+        writable_dir(self.figures_dir, "figures folder")
+
+    def __call__(self) -> int:
+        from mjx_badger import plots
+
+        folder = self.results_dir / self.profile / self.protocol
+        written = plots.draw(folder, self.figures_dir, self.profile, protocol=self.protocol)
+        if not written:
+            print(f"no results under {folder}", file=sys.stderr)
+            return 1
+        for path in written:
+            print(f"wrote {path}")
+        return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m mjx_badger", description=__doc__.splitlines()[0])
-    commands = parser.add_subparsers(dest="command", required=True)
+@dataclasses.dataclass(frozen=True)
+class Claims:
+    """Score the thesis's simulation claims against existing results."""
 
-    train = commands.add_parser("train", help="train one configuration over many seeds in one vmapped program")
-    add_configuration_arguments(train)
-    train.add_argument("--seeds", type=positive_int, default=3, help="number of seeds, run in parallel")
-    train.add_argument("--first-seed", type=int, default=0)
-    train.add_argument("--steps", type=positive_int, default=50_000, help="environment steps per seed")
-    train.add_argument("--chunk-steps", type=positive_int, default=1_000)
-    train.add_argument("--warmup-steps", type=positive_int, default=1_000)
-    train.add_argument("--eval-steps", type=positive_int, default=400)
-    add_protocol_argument(train)
-    train.add_argument("--set", dest="changes", type=protocol_change, action="append", default=[], metavar="FIELD=VALUE",
-                       help="change one protocol field (repeatable), e.g. --set action_delay=False")
-    for what, example in (("approach", "cutoff_hz=2.0"), ("algo", "learning_rate=0.001"),
-                          ("task", "target_velocity=0.3")):
-        train.add_argument(f"--{what}-param", dest=f"{what}_params", type=name_value, action="append", default=[],
-                           metavar="NAME=VALUE", help=f"one {what} parameter (repeatable), e.g. {example}; "
-                                                      "`list` shows which each takes")
-    train.add_argument("--robot", choices=list(ROBOTS), default="hb40",
-                       help="hb40: the thesis code's model; hb40-v1: this suite's first (JT approaches only)")
-    train.add_argument("--out", type=Path, default=Path("results"), help="folder for the results file")
-    train.add_argument("--quiet", action="store_true", help="no progress bar")
+    profile: Profile = "quick"
+    protocol: Optional[ProtocolName] = None
+    """One protocol (default: both)."""
+    results_dir: Path = Path("results")
+    json: Optional[Path] = None
+    """Also write the scoreboard here."""
+    markdown: Optional[Path] = None
+    """Also write the protocols' scoreboards side by side as a Markdown table here."""
 
-    reproduce = commands.add_parser("reproduce", help="run the thesis experiments of a profile, then draw figures")
-    reproduce.add_argument("--profile", choices=list(PROFILES), default="quick")
-    add_protocol_argument(reproduce)
-    reproduce.add_argument("--experiments", nargs="+", choices=list(EXPERIMENTS), default=list(EXPERIMENTS))
-    reproduce.add_argument("--results-dir", type=Path, default=Path("results"))
-    reproduce.add_argument("--figures-dir", type=Path, default=Path("figures"))
-    reproduce.add_argument("--force", action="store_true", help="rerun runs whose complete results exist")
+    def check(self) -> None:
+        pass
 
-    figures = commands.add_parser("figures", help="draw figures from existing results")
-    figures.add_argument("--profile", choices=list(PROFILES), default="quick")
-    add_protocol_argument(figures)
-    figures.add_argument("--results-dir", type=Path, default=Path("results"))
-    figures.add_argument("--figures-dir", type=Path, default=Path("figures"))
+    def __call__(self) -> int:
+        from mjx_badger import claims, results
 
-    realtime = commands.add_parser("realtime", help="train on one robot at wall-clock rate (a simulated HB40 here)")
-    add_configuration_arguments(realtime)
-    realtime.add_argument("--steps", type=positive_int, default=20_000, help="control steps, warm-up included")
-    realtime.add_argument("--warmup-steps", type=positive_int, default=1_000)
-    realtime.add_argument("--control-hz", type=float, default=None,
-                          help="control rate (default: the algorithm's, 40 Hz CrossQ, 20 Hz the others)")
-    realtime.add_argument("--target-velocity", type=float, default=0.25, help="forward task target (m/s)")
-    realtime.add_argument("--planned-contacts", action="store_true",
-                          help="CPG approaches: leg odometry from the planned stance legs, not all four")
-    realtime.add_argument("--reset-seconds", type=float, default=2.0,
-                          help="simulated manual reset after a safety stop (not counted as training time)")
-    realtime.add_argument("--no-sensor-noise", action="store_true", help="simulated robot: perfect sensors")
-    realtime.add_argument("--unthrottled", action="store_true",
-                          help="learner updates flat out instead of the algorithm's updates per step")
-    realtime.add_argument("--seed", type=int, default=0)
-    realtime.add_argument("--out", type=Path, default=Path("results/realtime"), help="folder for results")
-    realtime.add_argument("--restart", action="store_true", help="ignore a saved checkpoint and start over")
-    realtime.add_argument("--quiet", action="store_true", help="no live view")
-
-    claims = commands.add_parser("claims", help="score the thesis's simulation claims against existing results")
-    claims.add_argument("--profile", choices=list(PROFILES), default="quick")
-    claims.add_argument("--protocol", choices=list(PROTOCOLS), default=None, help="one protocol (default: both)")
-    claims.add_argument("--results-dir", type=Path, default=Path("results"))
-    claims.add_argument("--json", type=Path, default=None, help="also write the scoreboard here")
-    claims.add_argument("--markdown", type=Path, default=None,
-                        help="also write the protocols' scoreboards side by side as a Markdown table here")
-
-    attribute = commands.add_parser("attribute", help="one-factor protocol swaps beside their baselines (2 seeds x 10k)")
-    attribute.add_argument("--results-dir", type=Path, default=Path("results"))
-    attribute.add_argument("--only", nargs="+", default=None, metavar="SWAP",
-                           help="run only these swaps (names as `list` prints them)")
-
-    commands.add_parser("list", help="list approaches, algorithms, tasks, experiments, profiles and protocols")
-    return parser
+        names = [self.protocol] if self.protocol else list(PROTOCOLS)
+        boards = {name: claims.score(self.results_dir / self.profile, name) for name in names}
+        for name, board in boards.items():
+            print(claims.scoreboard_text(board, self.profile, name))
+            print(f"  wall time: {results.wall_time_words(self.results_dir / self.profile / name)}")
+            print()
+        if self.markdown:
+            write_scoreboard_markdown(self.markdown, boards, self.results_dir / self.profile)
+        if self.json:
+            self.json.parent.mkdir(parents=True, exist_ok=True)
+            self.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
+                                            indent=1))
+        return 0
 
 
-def main(argv=None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    enable_compilation_cache()
-    if args.command == "list":
+@dataclasses.dataclass(frozen=True)
+class Attribute:
+    """One-factor protocol swaps beside their baselines (2 seeds x 10k steps each)."""
+
+    results_dir: Path = Path("results")
+    only: Optional[tuple[str, ...]] = None
+    """Run only these swaps (names as `list` prints them)."""
+
+    def check(self) -> None:
+        from mjx_badger.attribution import SWAPS_BY_NAME
+
+        unknown = sorted(set(self.only or ()) - set(SWAPS_BY_NAME))
+        if unknown:
+            raise ValueError(f"unknown swap(s) {unknown}; choose from: {', '.join(SWAPS_BY_NAME)}")
+        writable_dir(self.results_dir, "results folder")
+
+    def __call__(self) -> int:
+        from mjx_badger import attribution, results, runner
+
+        swaps = tuple(swap for swap in attribution.SWAPS if self.only is None or swap.name in self.only)
+        seeds = list(range(attribution.PROFILE.seeds))
+        for swap, run, config, path in attribution.planned(self.results_dir, swaps):
+            if path.exists() and results.read(path).get("complete"):
+                print(f"skip {path}: complete")
+                continue
+            runner.run(config, seeds, path, progress=_progress_bar())
+        print(attribution.table(self.results_dir))
+        return 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Realtime:
+    """Train on one robot at wall-clock rate, learner beside the control loop (a simulated HB40 here)."""
+
+    run: Annotated[RealtimeConfig, Flat] = RealtimeConfig()
+    reset_seconds: float = 2.0
+    """Simulated manual reset after a safety stop (not counted as training time)."""
+    no_sensor_noise: bool = False
+    """Simulated robot: perfect sensors."""
+    out: Path = Path("results/realtime")
+    """Folder for results."""
+    restart: bool = False
+    """Ignore a saved checkpoint and start over."""
+    quiet: bool = False
+    """No live view."""
+
+    def check(self) -> None:
+        if self.reset_seconds < 0:
+            raise ValueError("--reset-seconds must not be negative")
+        writable_dir(self.out, "output folder")
+
+    def __call__(self) -> int:
+        from mjx_badger import plots
+        from mjx_badger.realtime import loop
+        from mjx_badger.realtime.simulated import SensorNoise, SimulatedHB40
+
+        config = self.run
+        # A real robot's adapter (interface.Robot) goes here in place of the simulated one.
+        bot = SimulatedHB40(noise=None if self.no_sensor_noise else SensorNoise(), reset_seconds=self.reset_seconds,
+                            seed=config.seed, spec=config.robot_spec)
+        try:
+            document = loop.run(config, bot, self.out, resume=not self.restart, view=not self.quiet)
+        except ValueError as error:  # a saved run of another configuration in the folder
+            print(f"error: {error}", file=sys.stderr)
+            return 2
+        if document["steps"]:
+            path = plots.realtime_figure(document, loop.load_trace(self.out, config), self.out / f"{config.name}.png")
+            print(f"figure: {path}")
+        return 0
+
+
+@dataclasses.dataclass(frozen=True)
+class List:
+    """List approaches, algorithms, tasks, experiments, profiles, protocols, robots and everyone's parameters."""
+
+    def check(self) -> None:
+        pass
+
+    def __call__(self) -> int:
+        from mjx_badger import spec, tasks
+        from mjx_badger.attribution import SWAPS_BY_NAME
+
         for title, names in (("approaches", APPROACHES), ("algorithms", ALGORITHMS), ("tasks", TASKS),
                              ("experiments", EXPERIMENTS), ("profiles", PROFILES), ("protocols", PROTOCOLS),
-                             ("protocol fields", FIELDS), ("robots", ROBOTS), ("attribution swaps", _swap_names())):
+                             ("protocol fields", FIELDS), ("robots", ROBOTS),
+                             ("attribution swaps", [f"'{name}'" for name in SWAPS_BY_NAME])):
             print(f"{title}: {', '.join(names)}")
-        from mjx_badger import spec, tasks
-
         print("approach parameters: " + "; ".join(f"{name}: {', '.join(a.params)}"
                                                   for name, a in APPROACHES.items() if a.params))
         print("task parameters: " + "; ".join(f"{name}: {', '.join(tasks.task_params(name))}"
                                               for name in TASKS if tasks.task_params(name)))
         print(f"algorithm parameters: {', '.join(spec.AGENT_FIELDS)}")
         return 0
-    if args.command == "train":
-        if args.warmup_steps >= args.steps:
-            parser.error(f"--warmup-steps ({args.warmup_steps}) must be smaller than --steps ({args.steps})")
-        if args.chunk_steps > args.steps:
-            parser.error(f"--chunk-steps ({args.chunk_steps}) must not exceed --steps ({args.steps})")
-        try:
-            config = train_config(args)  # checked when built
-        except ValueError as error:
-            parser.error(str(error))
-        writable_dir(parser, args.out, "output folder")
-        return train_command(args, config)
-    if args.command == "realtime":
-        from mjx_badger.realtime.loop import RealtimeConfig
-
-        try:  # checked when built
-            config = RealtimeConfig(approach=args.approach, algo=args.algo, task=args.task, steps=args.steps,
-                                    warmup_steps=args.warmup_steps, control_hz=args.control_hz,
-                                    target_velocity=args.target_velocity, planned_contacts=args.planned_contacts,
-                                    unthrottled=args.unthrottled, seed=args.seed)
-        except ValueError as error:
-            parser.error(str(error))
-        if args.warmup_steps >= args.steps:
-            parser.error(f"--warmup-steps ({args.warmup_steps}) must be smaller than --steps ({args.steps})")
-        if args.reset_seconds < 0:
-            parser.error("--reset-seconds must not be negative")
-        writable_dir(parser, args.out, "output folder")
-        return realtime_command(args, config)
-    if args.command == "claims":
-        return claims_command(args)
-    if args.command == "attribute":
-        from mjx_badger.attribution import SWAPS_BY_NAME
-
-        unknown = set(args.only or ()) - set(SWAPS_BY_NAME)
-        if unknown:
-            parser.error(f"unknown swap(s) {sorted(unknown)}; choose from: {', '.join(SWAPS_BY_NAME)}")
-        writable_dir(parser, args.results_dir, "results folder")
-        return attribute_command(args)
-    if args.command == "reproduce":
-        writable_dir(parser, args.results_dir, "results folder")
-        writable_dir(parser, args.figures_dir, "figures folder")
-        return reproduce_command(args)
-    writable_dir(parser, args.figures_dir, "figures folder")
-    return figures_command(args)
 
 
-def realtime_command(args, config) -> int:
-    from mjx_badger import plots
-    from mjx_badger.realtime import loop
-    from mjx_badger.realtime.simulated import SensorNoise, SimulatedHB40
+COMMANDS = {"train": Train, "reproduce": Reproduce, "figures": Figures, "claims": Claims, "attribute": Attribute,
+            "realtime": Realtime, "list": List}
 
-    # A real robot's adapter (interface.Robot) goes here in place of the simulated one.
-    bot = SimulatedHB40(noise=None if args.no_sensor_noise else SensorNoise(), reset_seconds=args.reset_seconds,
-                        seed=args.seed, spec=config.robot_spec)
+
+def one_line(box: str) -> str:
+    """tyro's framed error message as one line: the message rows, without frame, title, help text or footer."""
+    rows = [re.sub(r"^[\s│─]+|[\s│─]+$", "", line) for line in box.splitlines() if not line.startswith(("╭", "╰"))]
+    sections, current = [], []
+    for row in rows + [""]:
+        if row:
+            current.append(row)
+        elif current:  # a rule between sections, its frame stripped away
+            sections.append(" ".join(current))
+            current = []
+    kept = [s for s in sections if not s.startswith(("Argument helptext", "For full helptext", "usage:"))]
+    return "; ".join(kept[:2]) or "bad arguments"
+
+
+def parse(argv=None):
+    """The command `argv` asks for, built and checked; SystemExit(2) with one line on stderr if it cannot be."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    errors = io.StringIO()
     try:
-        document = loop.run(config, bot, args.out, resume=not args.restart, view=not args.quiet)
-    except ValueError as error:
+        with contextlib.redirect_stderr(errors):
+            command = tyro.extras.subcommand_cli_from_dict(COMMANDS, args=argv, prog="python -m mjx_badger",
+                                                           description=DESCRIPTION)
+        command.check()
+    except SystemExit as done:
+        if done.code:
+            print(f"error: {one_line(errors.getvalue())} (see --help)", file=sys.stderr)
+        else:
+            sys.stderr.write(errors.getvalue())
+        raise
+    except ValueError as error:  # a spec or a check refused the input
         print(f"error: {error}", file=sys.stderr)
-        return 2
-    if document["steps"]:
-        path = plots.realtime_figure(document, loop.load_trace(args.out, config), args.out / f"{config.name}.png")
-        print(f"figure: {path}")
-    return 0
+        raise SystemExit(2) from None
+    return command
 
 
-def train_config(args):
-    from mjx_badger.train import TrainConfig
-
-    return TrainConfig(approach=args.approach, algo=args.algo, task=args.task, total_steps=args.steps,
-                       chunk_steps=args.chunk_steps, warmup_steps=args.warmup_steps, eval_steps=args.eval_steps,
-                       protocol=args.protocol, protocol_changes=tuple(args.changes), robot=args.robot,
-                       approach_params=tuple(args.approach_params), algo_params=tuple(args.algo_params),
-                       task_params=tuple(args.task_params))
-
-
-def train_command(args, config) -> int:
-    from mjx_badger import runner
-
-    seeds = list(range(args.first_seed, args.first_seed + args.seeds))
-    out = args.out / f"{args.approach}_{args.algo}_{args.task}.json"
-    print(f"protocol {args.protocol}, robot {args.robot}" + "".join(f", {k}={v!r}" for k, v in args.changes))
-    document = runner.run(config, seeds, out, progress=not args.quiet)
-    print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
-          f"compile {document['wall_clock']['compile_s']} s)")
-    return 0
+def main(argv=None) -> int:
+    command = parse(argv)
+    enable_compilation_cache()
+    return command()
 
 
 def overall_progress(index: int, runs: int, done: float, total: float, elapsed_s: float) -> str:
@@ -329,37 +380,6 @@ def _same_run(folder: Path, config, seeds, pattern: str | None = None):
     return None
 
 
-def figures_command(args) -> int:
-    from mjx_badger import plots
-
-    folder = args.results_dir / args.profile / args.protocol
-    written = plots.draw(folder, args.figures_dir, args.profile, protocol=args.protocol)
-    if not written:
-        print(f"no results under {folder}", file=sys.stderr)
-        return 1
-    for path in written:
-        print(f"wrote {path}")
-    return 0
-
-
-def claims_command(args) -> int:
-    from mjx_badger import claims, results
-
-    names = [args.protocol] if args.protocol else list(PROTOCOLS)
-    boards = {name: claims.score(args.results_dir / args.profile, name) for name in names}
-    for name, board in boards.items():
-        print(claims.scoreboard_text(board, args.profile, name))
-        print(f"  wall time: {results.wall_time_words(args.results_dir / args.profile / name)}")
-        print()
-    if args.markdown:
-        write_scoreboard_markdown(args.markdown, boards, args.results_dir / args.profile)
-    if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
-                                        indent=1))
-    return 0
-
-
 def write_scoreboard_markdown(path: Path, boards: dict, profile_folder: Path) -> None:
     """The side-by-side scoreboard the README quotes, with each protocol's wall time under it."""
     from mjx_badger import claims, results
@@ -370,22 +390,3 @@ def write_scoreboard_markdown(path: Path, boards: dict, profile_folder: Path) ->
     print(f"wrote {path}")
 
 
-def _swap_names():
-    from mjx_badger.attribution import SWAPS_BY_NAME
-
-    return [f"'{name}'" for name in SWAPS_BY_NAME]
-
-
-def attribute_command(args) -> int:
-    from mjx_badger import attribution, results, runner
-
-    swaps = tuple(swap for swap in attribution.SWAPS if args.only is None or swap.name in args.only)
-    todo = list(attribution.planned(args.results_dir, swaps))
-    seeds = list(range(attribution.PROFILE.seeds))
-    for swap, run, config, path in todo:
-        if path.exists() and results.read(path).get("complete"):
-            print(f"skip {path}: complete")
-            continue
-        runner.run(config, seeds, path, progress=sys.stderr.isatty() or os.environ.get("CI") is None)
-    print(attribution.table(args.results_dir))
-    return 0

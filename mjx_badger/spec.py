@@ -10,6 +10,7 @@ import dataclasses
 
 from mjx_badger import actions, protocols, robot, tasks
 from mjx_badger.agents import ALGORITHMS, AgentConfig
+from mjx_badger.options import pairs
 from mjx_badger.protocols import Protocol
 
 AGENT_FIELDS = tuple(f.name for f in dataclasses.fields(AgentConfig) if f.name != "name")
@@ -27,14 +28,14 @@ class RunSpec:
     """A task of tasks.TASKS: 'forward', 'forward-max', 'omni-random', 'omni-pdec', ..."""
     protocol: str = "thesis-code"
     """'thesis-code' (as the released code ran it) or 'thesis-text' (as the thesis reads); protocols.py."""
-    protocol_changes: tuple = ()
-    """One-factor swaps: ((field, value), ...) applied to the protocol (attribution runs)."""
-    approach_params: tuple = ()
-    """The approach's keyword parameters as ((name, value), ...), e.g. (("cutoff_hz", 2.0),) for JT-LPF."""
-    algo_params: tuple = ()
-    """AgentConfig fields set on the protocol's configuration of `algo`, e.g. (("learning_rate", 0.001),)."""
-    task_params: tuple = ()
-    """The task's keyword parameters as ((name, value), ...), e.g. (("target_velocity", 0.3),) for forward."""
+    protocol_changes: pairs("--set") = ()
+    """One-factor swaps of protocol fields, e.g. action_delay=False (`list` names the fields)."""
+    approach_params: pairs("--approach-param") = ()
+    """The approach's keyword parameters, e.g. cutoff_hz=2.0 for jt-lpf (`list` shows which each takes)."""
+    algo_params: pairs("--algo-param") = ()
+    """AgentConfig fields set on the protocol's configuration of `algo`, e.g. learning_rate=0.001."""
+    task_params: pairs("--task-param") = ()
+    """The task's keyword parameters, e.g. target_velocity=0.3 for forward."""
     robot: str = "hb40"
     """The robot description (robot.ROBOTS): 'hb40', the thesis code's, or 'hb40-v1', this suite's first."""
 

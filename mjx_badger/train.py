@@ -8,10 +8,11 @@ stay real branches under vmap.
 """
 
 import dataclasses
-from typing import Callable, NamedTuple
+from typing import Annotated, Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
+import tyro
 from flax import struct
 
 from mjx_badger import actions, evaluation, protocols, replay, robot, tasks
@@ -26,7 +27,7 @@ from mjx_badger.spec import RunSpec
 class TrainConfig(RunSpec):
     """One training run: what to train (RunSpec) and for how long. Shapes follow from it."""
 
-    total_steps: int = 50_000
+    total_steps: Annotated[int, tyro.conf.arg(aliases=("--steps",))] = 50_000
     """Environment steps per seed, warm-up included (thesis: 50k)."""
     chunk_steps: int = 1_000
     """Steps per compiled chunk: one progress tick, one results row, one evaluation."""
@@ -36,14 +37,21 @@ class TrainConfig(RunSpec):
     """Length of each deterministic evaluation run after every chunk."""
     gait_seconds: float = 4.0
     """Simulated seconds of the deterministic run after training; its second half is kept as the gait record."""
-    env: EnvConfig | None = None
+    env: tyro.conf.Suppress[EnvConfig | None] = None
     """Environment settings; None means the protocol's, at its rate for this approach and algorithm."""
-    agent: AgentConfig | None = None
+    agent: tyro.conf.Suppress[AgentConfig | None] = None
     """Agent settings; None means the protocol's configuration of `algo` with `algo_params`."""
 
     def validate(self) -> None:
         """Raise ValueError naming the valid choices for any unknown name, before anything compiles."""
         super().validate()
+        for name in ("total_steps", "chunk_steps", "eval_steps"):
+            if getattr(self, name) <= 0:
+                raise ValueError(f"{name} must be a positive number of steps, not {getattr(self, name)}")
+        if self.warmup_steps < 0:
+            raise ValueError(f"warmup_steps must not be negative, not {self.warmup_steps}")
+        if self.chunk_steps > self.total_steps:
+            raise ValueError(f"chunk_steps ({self.chunk_steps}) must not exceed total_steps ({self.total_steps})")
         if self.warmup_steps >= self.total_steps:
             raise ValueError(f"warm-up ({self.warmup_steps} steps) must be shorter than the run ({self.total_steps})")
 

@@ -1,24 +1,29 @@
-"""Bad input gets one clear message and exit code 2 before anything compiles."""
+"""Bad input gets one clear line and exit code 2 before anything compiles; options come from the run specs."""
 
+import dataclasses
 import subprocess
 import sys
 import time
 
 import pytest
 
-from mjx_badger.cli import main
+from mjx_badger.cli import main, parse
+from mjx_badger.realtime.config import RealtimeConfig
+from mjx_badger.train import TrainConfig
 
 
 def _fails(capsys, argv):
     with pytest.raises(SystemExit) as exit_info:
         main(argv)
     assert exit_info.value.code == 2
-    return capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and err.count("\n") == 1, f"not one line: {err!r}"
+    return err
 
 
 def test_unknown_approach_names_the_choices(capsys):
     err = _fails(capsys, ["train", "--approach", "jt-xyz"])
-    assert "invalid choice: 'jt-xyz'" in err and "jt-nf" in err and "jt-lpf" in err and "jt-oef" in err
+    assert "unknown approach 'jt-xyz'; choose from" in err and "jt-nf" in err and "jt-lpf" in err and "jt-oef" in err
 
 
 def test_unknown_algorithm_and_task(capsys):
@@ -26,13 +31,16 @@ def test_unknown_algorithm_and_task(capsys):
     assert "forward" in _fails(capsys, ["train", "--task", "backflip"])
 
 
-@pytest.mark.parametrize("flag, value", [("--seeds", "0"), ("--steps", "-5"), ("--seeds", "two")])
-def test_non_positive_counts(capsys, flag, value):
-    assert "positive integer" in _fails(capsys, ["train", flag, value])
+@pytest.mark.parametrize("flag, value, says", [("--seeds", "0", "--seeds must be a positive number"),
+                                               ("--steps", "-5", "total_steps must be a positive number"),
+                                               ("--seeds", "two", "Error parsing --seeds")])
+def test_non_positive_counts(capsys, flag, value, says):
+    assert says in _fails(capsys, ["train", flag, value])
 
 
 def test_warmup_longer_than_run(capsys):
-    assert "--warmup-steps" in _fails(capsys, ["train", "--steps", "500", "--warmup-steps", "1000"])
+    assert "warm-up (2000 steps) must be shorter" in _fails(capsys, ["train", "--steps", "1500", "--warmup-steps", "2000"])
+    assert "chunk_steps (1000) must not exceed" in _fails(capsys, ["train", "--steps", "500", "--warmup-steps", "100"])
 
 
 def test_unwritable_output(capsys, tmp_path):
@@ -60,9 +68,11 @@ def test_list_names_everything(capsys):
 def test_bad_protocol_names_and_fields_exit_2(capsys):
     for command in ("train", "reproduce", "figures", "claims"):
         err = _fails(capsys, [command, "--protocol", "thesis-paper"])
-        assert "invalid choice: 'thesis-paper'" in err and "thesis-code" in err and "thesis-text" in err
+        assert "'thesis-paper'" in err and "thesis-code" in err and "thesis-text" in err
     err = _fails(capsys, ["train", "--set", "no_such_field=1"])
-    assert "FIELD one of" in err and "episode_seconds" in err
+    assert "unknown protocol field(s) ['no_such_field']" in err and "episode_seconds" in err
+    assert "expected NAME=VALUE, got 'action_delay'" in _fails(capsys, ["train", "--set", "action_delay"])
+    assert "Unrecognized options: trian" in _fails(capsys, ["trian"])
 
 
 def test_the_cpg_on_another_robot_exits_2(capsys):
@@ -120,7 +130,7 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
 def test_realtime_refuses_what_a_robot_cannot_run(capsys):
     assert "cpg-rt-avg" in _fails(capsys, ["realtime", "--approach", "cpg-rt"])
     assert "planned contacts" in _fails(capsys, ["realtime", "--approach", "jt-oef", "--planned-contacts"])
-    assert "--warmup-steps" in _fails(capsys, ["realtime", "--steps", "100", "--warmup-steps", "200"])
+    assert "warmup_steps (200) must be smaller" in _fails(capsys, ["realtime", "--steps", "100", "--warmup-steps", "200"])
     assert "control rate" in _fails(capsys, ["realtime", "--control-hz", "500"])
 
 
@@ -133,12 +143,31 @@ def test_reproduce_reports_overall_progress_with_an_eta_from_the_measured_rate()
 
 
 def test_train_takes_approach_algorithm_and_task_parameters_and_names_bad_ones(capsys):
-    from mjx_badger.cli import build_parser, train_config
-
-    args = build_parser().parse_args(["train", "--approach", "jt-lpf", "--approach-param", "cutoff_hz=2.0",
-                                      "--algo-param", "learning_rate=0.001", "--task-param", "target_velocity=0.3"])
-    config = train_config(args)
+    config = parse(["train", "--approach", "jt-lpf", "--approach-param", "cutoff_hz=2.0", "--algo-param",
+                    "learning_rate=0.001", "--task-param", "target_velocity=0.3", "--set", "action_delay=False",
+                    "--set", "jt_pd_gains=[60,3]"]).run
+    assert config.protocol_changes == (("action_delay", False), ("jt_pd_gains", (60, 3)))
+    assert config.protocol_spec.jt_pd_gains == (60, 3) and config.protocol_spec.action_delay is False
     assert config.approach_params == (("cutoff_hz", 2.0),) and config.agent_config.learning_rate == 0.001
     assert config.task_params == (("target_velocity", 0.3),)
     err = _fails(capsys, ["train", "--approach", "jt-lpf", "--approach-param", "cutof=1", "--steps", "2000"])
     assert "approach 'jt-lpf' takes cutoff_hz, not cutof" in err
+
+
+@pytest.mark.parametrize("command, spec", [("train", TrainConfig), ("realtime", RealtimeConfig)])
+def test_every_run_spec_field_is_an_option_with_its_docstring_as_help(capsys, command, spec):
+    with pytest.raises(SystemExit) as exit_info:
+        main([command, "--help"])
+    assert exit_info.value.code == 0
+    help_text = " ".join(capsys.readouterr().out.replace("│", " ").split())
+    hidden = {"env", "agent"}  # nested configs the protocol resolves; Python callers set them
+    for field in dataclasses.fields(spec):
+        if field.name not in hidden:
+            assert f"--{field.name.replace('_', '-')}" in help_text, field.name
+    assert "One-factor swaps of protocol fields" in help_text and "Environment steps per seed" in help_text \
+        or command == "realtime"
+
+
+def test_the_train_defaults_are_the_specs_own():
+    assert parse(["train"]).run == TrainConfig() and parse(["realtime"]).run == RealtimeConfig()
+    assert parse(["train", "--steps", "2000"]).run.total_steps == 2000

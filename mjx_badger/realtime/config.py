@@ -2,6 +2,8 @@
 
 import dataclasses
 
+import tyro
+
 from mjx_badger import robot, tasks
 from mjx_badger.actions import is_cpg
 from mjx_badger.agents import AgentConfig
@@ -17,10 +19,13 @@ class RealtimeConfig(RunSpec):
     target_velocity: float = 0.25
     """Forward task only: the thesis's office and outdoor runs asked for 0.25 m/s (§5.2)."""
     steps: int = 20_000
+    """Control steps, warm-up included."""
     warmup_steps: int = 1_000
+    """Uniform random actions before learning starts."""
     control_hz: float | None = None
     """None: the algorithm's rate (Table 4.3: 40 Hz CrossQ, 20 Hz the others)."""
     episode_seconds: float = 20.0
+    """Longest episode before a time-out (the thesis's 20 s)."""
     planned_contacts: bool = False
     """Leg odometry from the CPG's planned stance legs instead of all four (CPG approaches only)."""
     updates_per_step: float | None = None
@@ -30,7 +35,8 @@ class RealtimeConfig(RunSpec):
     eval_seconds: float = 10.0
     """Deterministic run after training, as the thesis's evaluation runs (0 skips it)."""
     seed: int = 0
-    agent: AgentConfig | None = None
+    """Seed of the agent, the commands and the simulated robot's noise."""
+    agent: tyro.conf.Suppress[AgentConfig | None] = None
     """Agent settings; None means the protocol's configuration of `algo` with `algo_params`."""
 
     @property
@@ -65,6 +71,8 @@ class RealtimeConfig(RunSpec):
             raise ValueError(f"control rate {self.hz} Hz must lie in [1, {physics_hz}] Hz")
         if self.steps < 1 or self.warmup_steps < 0:
             raise ValueError("steps must be positive and warm-up steps not negative")
+        if self.warmup_steps >= self.steps:
+            raise ValueError(f"warmup_steps ({self.warmup_steps}) must be smaller than steps ({self.steps})")
 
     def make_task(self) -> tasks.Task:
         """The task under the protocol, the forward one at `target_velocity`."""
