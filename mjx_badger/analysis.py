@@ -97,7 +97,7 @@ def summarize(document: dict, target: float | None) -> dict:
     reached = None if target is None else first_reached(document, target)
     frequencies = gait_frequencies(document)
     metrics = document["metrics"]
-    eval_velocity = final(document, "eval/forward_velocity") if "eval/forward_velocity" in metrics else None
+    eval_velocity = final(document, "eval/desired_velocity") if "eval/desired_velocity" in metrics else None
     return {
         "steps": document["steps"][-1],
         "minutes": document["sim_minutes"][-1],

@@ -1,9 +1,14 @@
 """Deterministic evaluation runs and the gait record of a policy, as pure functions over an env.
 
 `make_evaluation(env, act, eval_steps, gait_seconds)` returns `evaluate(policy_state, key) ->
-eval/ metrics` (the task's evaluation commands: one for the forward tasks, four directions x two
-speeds for the omni ones) and `gait(policy_state, key) -> record` (foot contacts and forward
-velocity at the physics rate), where `act(policy_state, obs)` is the deterministic policy.
+eval/ metrics` and `gait(policy_state, key) -> record` (foot contacts and forward velocity at
+the physics rate), where `act(policy_state, obs)` is the deterministic policy.
+
+One schema whatever the task: one deterministic run per evaluation command of the task (one
+for the forward tasks, four directions x two speeds for the omni ones), each reported as
+`eval/{run}/{metric}` for every metric of RUN_METRICS, and `eval/{metric}` over all runs: the
+mean, falls summed. `desired_velocity` is the trunk velocity along the command (the forward
+velocity for the forward tasks), the `_mae` metrics its error and the lateral and yaw errors.
 """
 
 from typing import Callable
@@ -11,7 +16,8 @@ from typing import Callable
 import jax
 import jax.numpy as jnp
 
-MEAN_OVER_COMMANDS = ("return", "desired_mae", "lateral_mae", "yaw_mae")
+RUN_METRICS = ("return", "desired_velocity", "lateral_velocity", "yaw_rate", "desired_mae", "lateral_mae", "yaw_mae",
+               "falls")
 
 
 def make_evaluation(env, act: Callable, eval_steps: int, gait_seconds: float):
@@ -45,16 +51,13 @@ def make_evaluation(env, act: Callable, eval_steps: int, gait_seconds: float):
         }
 
     def evaluate(policy_state, key):
-        """The task's evaluation runs as eval/ metrics (per command for several, plus their means)."""
-        if len(names) == 1:
-            one = run(policy_state, key, commands[0])
-            return {"eval/return": one["return"], "eval/forward_velocity": one["desired_velocity"],
-                    "eval/lateral_velocity": one["lateral_velocity"], "eval/yaw_rate": one["yaw_rate"],
-                    "eval/falls": one["falls"]}
-        runs = jax.vmap(run, in_axes=(None, None, 0))(policy_state, key, commands)
+        """The task's evaluation runs as eval/{run}/{metric} and eval/{metric} (see the module docstring)."""
+        if len(names) == 1:  # unbatched: the very arithmetic of a single run
+            runs = jax.tree.map(lambda x: x[None], run(policy_state, key, commands[0]))
+        else:
+            runs = jax.vmap(run, in_axes=(None, None, 0))(policy_state, key, commands)
         metrics = {f"eval/{name}/{k}": v[i] for k, v in runs.items() for i, name in enumerate(names)}
-        metrics.update({f"eval/{k}": jnp.mean(runs[k]) for k in MEAN_OVER_COMMANDS})
-        metrics["eval/falls"] = jnp.sum(runs["falls"])
+        metrics.update({f"eval/{k}": jnp.sum(v) if k == "falls" else jnp.mean(v) for k, v in runs.items()})
         return metrics
 
     def gait(policy_state, key):

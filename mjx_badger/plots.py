@@ -141,7 +141,7 @@ def forward_figure(experiment: Experiment, documents: dict, out: Path, profile: 
     thesis = ", ".join(thesis_item(a, n) for a, n in experiment.thesis_numbers.items()) + " steps; falls " + ", ".join(
         f"{display_name(a)} {n['falls']}" for a, n in experiment.thesis_numbers.items())
     panels = (("train/forward_velocity", "training (mean over each 1k-step chunk)", "forward velocity [m/s]"),
-              ("eval/forward_velocity", "deterministic evaluation after each chunk", "forward velocity [m/s]"),
+              ("eval/desired_velocity", "deterministic evaluation after each chunk", "forward velocity [m/s]"),
               ("train/falls", "falls during training (cumulative)", "falls"))
     return learning_curves(experiment, documents, out, profile, "steps", panels,
                            (f"Forward locomotion at {experiment.target_velocity} m/s, CrossQ", thesis))

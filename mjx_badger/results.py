@@ -9,7 +9,9 @@ Schema `mjx_badger.results/1`:
     complete      false until the last chunk is written (an interrupted run stays readable)
     steps         environment steps per seed at the end of each chunk, list (chunks,)
     sim_minutes   the same in simulated minutes (steps / control frequency / 60)
-    metrics       name -> list (chunks,) of list (seeds,); null where undefined
+    metrics       name -> list (chunks,) of list (seeds,); null where undefined; the evaluation's
+                  are evaluation.py's eval/{run}/{metric} and eval/{metric} (files written before
+                  that schema are read into it: `upgrade`)
                   (e.g. train/episode_return in a chunk where no episode ended); falls are
                   cumulative: train/falls as the protocol counts them, train/falls_total every
                   termination, train/would_falls the times the termination rule started firing
@@ -114,6 +116,20 @@ def read(path: Path) -> dict:
     document = json.loads(Path(path).read_text())
     if document.get("schema") != SCHEMA:
         raise ValueError(f"{path}: not a {SCHEMA} results file")
+    return upgrade(document)
+
+
+def upgrade(document: dict) -> dict:
+    """A document in today's evaluation schema: older files named the one forward run's desired
+    velocity eval/forward_velocity and kept no means of the omni runs' velocities."""
+    metrics = document.get("metrics", {})
+    if "eval/forward_velocity" in metrics and "eval/desired_velocity" not in metrics:
+        metrics["eval/desired_velocity"] = metrics.pop("eval/forward_velocity")
+    for name in ("desired_velocity", "lateral_velocity", "yaw_rate"):
+        per_run = [v for k, v in metrics.items() if k.startswith("eval/") and k.endswith(f"/{name}")]
+        if f"eval/{name}" not in metrics and per_run:
+            metrics[f"eval/{name}"] = [[None if None in seeds else sum(seeds) / len(seeds) for seeds in zip(*rows)]
+                                       for rows in zip(*per_run)]
     return document
 
 

@@ -84,10 +84,10 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
 def progress_figures(metrics: dict) -> dict:
     """Seed means shown beside the progress bar: velocity along the command, evaluation, falls."""
     shown = {"v": np.mean(metrics["train/desired_velocity"])}
-    if "eval/forward_velocity" in metrics:
-        shown["eval_v"] = np.mean(metrics["eval/forward_velocity"])
-    else:
+    if any(name.startswith("eval/forward_full/") for name in metrics):  # the omni tasks' eight runs
         shown["eval_mae"] = np.mean(metrics["eval/desired_mae"])
+    else:
+        shown["eval_v"] = np.mean(metrics["eval/desired_velocity"])
     if "curriculum/learned_bins" in metrics:
         shown["bins"] = np.mean(metrics["curriculum/learned_bins"])
     shown["falls"] = np.mean(metrics["train/falls"])

@@ -25,7 +25,11 @@ def test_a_bad_spec_fails_when_built_and_names_the_choices(changes, message):
         with pytest.raises(ValueError, match=message.replace("(", r"\(")):
             kind(**changes)
     with pytest.raises(ValueError, match="must be shorter than the run"):
-        TrainConfig(total_steps=100, warmup_steps=100)
+        TrainConfig(total_steps=100, warmup_steps=100, chunk_steps=50)
+    with pytest.raises(ValueError, match="chunk_steps \\(1000\\) must not exceed total_steps \\(100\\)"):
+        TrainConfig(total_steps=100, warmup_steps=10)
+    with pytest.raises(ValueError, match="eval_steps must be a positive number of steps, not 0"):
+        TrainConfig(eval_steps=0)
 
 
 def test_swept_values_are_plain_fields_that_reach_what_they_set():

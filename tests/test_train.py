@@ -6,7 +6,7 @@ import jax
 import numpy as np
 
 from conftest import TINY_TRAIN, seed_keys
-from mjx_badger import plots, results, runner
+from mjx_badger import evaluation, plots, results, runner
 from mjx_badger.experiments import EXPERIMENTS, result_name
 from mjx_badger.train import TrainConfig
 
@@ -30,7 +30,8 @@ def test_smoke_training_run(train_fns):
     assert int(carry.agent_state.updates[0]) == TINY_TRAIN.total_steps - TINY_TRAIN.warmup_steps
     last = history[-1]
     for name in ("train/critic_loss", "train/actor_loss", "train/alpha", "train/forward_velocity",
-                 "eval/forward_velocity", "eval/return", "reward/velocity", "reward/energy"):
+                 "eval/desired_velocity", "eval/forward/desired_velocity", "eval/desired_mae", "eval/return",
+                 "reward/velocity", "reward/energy"):
         assert np.isfinite(last[name]).all(), name
     assert np.isnan(history[0]["train/critic_loss"]).all()  # the first chunk is all warm-up
     # Seeds differ from each other.
@@ -75,6 +76,7 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     assert document["config"]["protocol"] == "thesis-code"
     assert document["config"]["env"]["protocol"]["termination"] == "thesis-code"
     assert np.array(document["metrics"]["train/forward_velocity"]).shape == (3, 2)
+    assert _evaluation_schema(document["metrics"]) == ({"forward"}, set(evaluation.RUN_METRICS))
     assert document["metrics"]["train/critic_loss"][0] == [None, None]  # NaN is written as null
     assert document["versions"]["mujoco"] and document["git_commit"]
     assert document["wall_clock"]["compile_s"] > 0 and document["hardware"]["peak_memory_mib"] > 0
@@ -115,6 +117,8 @@ def test_omni_run_records_eight_evaluations_and_the_curriculum_and_draws_every_o
                 values = np.array(metrics[f"eval/{direction}_{level}/{name}"], dtype=float)
                 assert values.shape == (2, 2) and np.isfinite(values).all()
     assert np.array(metrics["curriculum/learned_bins"]).shape == (2, 2)
+    runs, names = _evaluation_schema(metrics)
+    assert len(runs) == 8 and names == set(evaluation.RUN_METRICS)  # the forward task's metric names, eight runs
     assert np.array(metrics["train/desired_velocity"]).shape == (2, 2)
     assert document["gait"]["command"] == [0.5, 0.0, 0.0]
 
@@ -144,3 +148,22 @@ def test_single_seed_runs_the_unbatched_program_with_the_same_numbers(tmp_path, 
             # The stiff contacts of the thesis-code model (the reset drop) grow float32 summation-order
             # differences to ~1e-3 over a chunk; a wrong key or carry would differ at order one.
             np.testing.assert_allclose(got, expected, rtol=2e-2, atol=2e-3, err_msg=name)
+
+
+def _evaluation_schema(metrics: dict) -> tuple:
+    """(run names, metric names) of a document's evaluation, checking every run has every metric over all runs."""
+    per_run = [name.split("/")[1:] for name in metrics if name.startswith("eval/") and name.count("/") == 2]
+    runs, names = {run for run, _ in per_run}, {name for _, name in per_run}
+    assert {name.split("/")[1] for name in metrics if name.startswith("eval/") and name.count("/") == 1} == names
+    assert len(per_run) == len(runs) * len(names)
+    return runs, names
+
+
+def test_results_of_the_older_evaluation_schema_are_read_into_todays():
+    one = {"schema": results.SCHEMA, "metrics": {"eval/forward_velocity": [[0.1, 0.3]], "eval/return": [[1.0, 2.0]]}}
+    two = {"schema": results.SCHEMA, "metrics": {"eval/forward_full/desired_velocity": [[0.4, None]],
+                                                 "eval/backward_full/desired_velocity": [[0.2, 0.5]]}}
+    upgraded = [results.upgrade(json.loads(json.dumps(d)))["metrics"] for d in (one, two)]
+    assert upgraded[0]["eval/desired_velocity"] == [[0.1, 0.3]] and "eval/forward_velocity" not in upgraded[0]
+    np.testing.assert_allclose(np.array(upgraded[1]["eval/desired_velocity"][0][:1]), [0.3])
+    assert upgraded[1]["eval/desired_velocity"][0][1] is None  # a missing run leaves the mean undefined
