@@ -53,7 +53,7 @@ class RunSpec:
         self.protocol_spec  # unknown protocol fields raise here
         actions.check_params(self.approach, dict(self.approach_params))
         actions.check_robot(self.approach, self.robot_spec, self.protocol_spec)
-        tasks.check_params(self.task, dict(self.task_params))
+        tasks.check_params(self.task, dict(self.task_params), self.protocol_spec.rewards)
         unknown = sorted(set(dict(self.algo_params)) - set(AGENT_FIELDS))
         if unknown:
             raise ValueError(f"algorithm parameters {', '.join(unknown)} are not AgentConfig fields; "

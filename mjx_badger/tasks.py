@@ -132,10 +132,11 @@ def omni_reward(weights: dict, rotated: bool, form: str = "thesis-text"):
     return reward
 
 
-def omni_random(speed: float = TARGET_VELOCITY, rotated: bool = False, form: str = "thesis-text") -> Task:
+def omni_random(speed: float = TARGET_VELOCITY, rotated: bool = False, form: str = "thesis-text",
+                weights=None) -> Task:
     """Omnidirectional locomotion, direction uniform on the circle every episode (§5.1.4)."""
     base = OMNI_WEIGHTS_CODE if form == "thesis-code" else OMNI_WEIGHTS
-    weights = dict(base, **({"lateral": LATERAL_PENALTY_WEIGHT} if rotated else {}))
+    weights = dict(base, **({"lateral": LATERAL_PENALTY_WEIGHT} if rotated else {})) if weights is None else dict(weights)
 
     def command(state, key):
         angle = jax.random.uniform(key, minval=-jnp.pi, maxval=jnp.pi)
@@ -145,12 +146,13 @@ def omni_random(speed: float = TARGET_VELOCITY, rotated: bool = False, form: str
                 reward=omni_reward(weights, rotated, form), weights=weights, eval_commands=omni_eval_commands(speed))
 
 
-def omni_pdec(speed: float = TARGET_VELOCITY, form: str = "thesis-text", rules: str | None = None) -> Task:
+def omni_pdec(speed: float = TARGET_VELOCITY, form: str = "thesis-text", rules: str | None = None,
+              weights=None) -> Task:
     """Omnidirectional locomotion under the Progressive Directional Expansion Curriculum (§4.5.1).
 
     `rules` names the curriculum's rule set (`curriculum.RULES`); by default the reward form's.
     """
-    weights = dict(OMNI_WEIGHTS_CODE if form == "thesis-code" else OMNI_WEIGHTS)
+    weights = dict((OMNI_WEIGHTS_CODE if form == "thesis-code" else OMNI_WEIGHTS) if weights is None else weights)
     chosen = curriculum.RULES[rules or form]
 
     def update(state, cmd, motion: Motion):
@@ -163,29 +165,40 @@ def omni_pdec(speed: float = TARGET_VELOCITY, form: str = "thesis-text", rules: 
 
 
 TASKS = {
-    "forward": lambda form, rules, target_velocity=TARGET_VELOCITY: forward(target_velocity, form=form),
-    "forward-max": lambda form, rules: forward_max(form=form),
-    "omni-random": lambda form, rules, speed=TARGET_VELOCITY: omni_random(speed, form=form),
-    "omni-random-rotated": lambda form, rules, speed=TARGET_VELOCITY: omni_random(speed, rotated=True, form=form),
-    "omni-pdec": lambda form, rules, speed=TARGET_VELOCITY: omni_pdec(speed, form=form, rules=rules),
+    "forward": lambda form, rules, target_velocity=TARGET_VELOCITY, weights=None: forward(target_velocity, weights,
+                                                                                          form=form),
+    "forward-max": lambda form, rules, weights=None: forward_max(weights, form=form),
+    "omni-random": lambda form, rules, speed=TARGET_VELOCITY, weights=None: omni_random(speed, form=form,
+                                                                                       weights=weights),
+    "omni-random-rotated": lambda form, rules, speed=TARGET_VELOCITY, weights=None: omni_random(
+        speed, rotated=True, form=form, weights=weights),
+    "omni-pdec": lambda form, rules, speed=TARGET_VELOCITY, weights=None: omni_pdec(speed, form=form, rules=rules,
+                                                                                   weights=weights),
 }
-"""Task name -> (reward form, curriculum rules, **params) -> Task; its keyword parameters are the task's."""
+"""Task name -> (reward form, curriculum rules, **params, weights=None) -> Task; its keyword parameters
+are the task's, and `weights` (term -> weight, None for the task's own) replaces its reward weights."""
+
+WEIGHT_SUFFIX = "_weight"
+"""A task parameter <term>_weight sets the weight of one reward term (e.g. energy_weight=0)."""
 
 
-def task_params(name: str) -> tuple:
-    """The keyword parameters the task `name` takes after its reward form and curriculum rules."""
-    return tuple(inspect.signature(TASKS[name]).parameters)[2:]
+def task_params(name: str, form: str = "thesis-text") -> tuple:
+    """The keyword parameters the task `name` takes under a reward form: its own, then one <term>_weight per term."""
+    own = tuple(p for p in tuple(inspect.signature(TASKS[name]).parameters)[2:] if p != "weights")
+    return own + tuple(f"{term}{WEIGHT_SUFFIX}" for term in TASKS[name](form, None).weights)
 
 
-def check_params(name: str, params: dict):
-    """Raise ValueError for a parameter the task does not take, naming the ones it does."""
-    unknown = sorted(set(params) - set(task_params(name)))
+def check_params(name: str, params: dict, form: str = "thesis-text"):
+    """Raise ValueError for a parameter the task does not take under `form`, naming the ones it does."""
+    unknown = sorted(set(params) - set(task_params(name, form)))
     if unknown:
-        raise ValueError(f"task {name!r} takes {', '.join(task_params(name)) or 'no parameters'}, "
-                         f"not {', '.join(unknown)}")
+        raise ValueError(f"task {name!r} takes {', '.join(task_params(name, form))}, not {', '.join(unknown)}")
 
 
 def make_task(name: str, form: str = "thesis-text", curriculum_rules: str | None = None, **params) -> Task:
     """The task `name` with a protocol's reward forms and curriculum rules ('thesis-text' or 'thesis-code')."""
-    check_params(name, params)
-    return TASKS[name](form, curriculum_rules, **params)
+    check_params(name, params, form)
+    own = {k: v for k, v in params.items() if not k.endswith(WEIGHT_SUFFIX)}
+    weights = {k[:-len(WEIGHT_SUFFIX)]: v for k, v in params.items() if k.endswith(WEIGHT_SUFFIX)}
+    task = TASKS[name](form, curriculum_rules, **own)
+    return TASKS[name](form, curriculum_rules, weights={**task.weights, **weights}, **own) if weights else task

@@ -16,7 +16,7 @@ from mjx_badger.train import TrainConfig
     ({"task": "jump"}, "unknown task 'jump'; choose from forward"),
     ({"protocol": "thesis-paper"}, "unknown protocol 'thesis-paper'"),
     ({"approach_params": (("cutoff_hz", 1.0),)}, "approach 'jt-oef' takes min_cutoff, beta, d_cutoff, not cutoff_hz"),
-    ({"task_params": (("speed", 0.3),)}, "task 'forward' takes target_velocity, not speed"),
+    ({"task_params": (("speed", 0.3),)}, "task 'forward' takes target_velocity, velocity_weight, .*, not speed"),
     ({"algo_params": (("learning_rat", 0.1),)}, "learning_rat are not AgentConfig fields; choose from learning_rate"),
     ({"protocol_changes": (("gains", 1),)}, "unknown protocol field"),
 ])
@@ -38,7 +38,9 @@ def test_swept_values_are_plain_fields_that_reach_what_they_set():
     assert TrainConfig().agent_config.learning_rate == 0.005  # the protocol's CrossQ otherwise
     command = spec.make_task().command((), None)[1]
     assert float(command[0]) == pytest.approx(0.3)
-    assert tasks.task_params("omni-pdec") == ("speed",)
+    assert tasks.task_params("omni-pdec") == ("speed", "velocity_weight", "yaw_weight", "roll_pitch_weight",
+                                              "energy_weight")
+    assert TrainConfig(task_params=(("energy_weight", 0.0),)).make_task().weights["energy"] == 0.0
 
 
 def test_the_trainer_and_the_on_robot_loop_share_the_spec():

@@ -23,6 +23,21 @@ def test_forward_max_reward_table_4_6():
     assert float(backward) == 0.0  # non-negative
 
 
+def test_a_reward_weight_is_a_task_parameter_named_by_its_term():
+    """forward-max without its roll/pitch penalty: 10 x (1.6 - 0.05) = 15.5; under thesis-code omni has no energy."""
+    task = tasks.make_task("forward-max", roll_pitch_weight=0.0)
+    reward, _ = task.reward(motion(vx=1.0, vy=-0.2, yaw=-0.5, roll=0.1), jnp.zeros(3))
+    assert float(reward) == pytest.approx(15.5, rel=1e-5) and task.weights["roll_pitch"] == 0.0
+    assert "energy_weight" in tasks.task_params("omni-pdec", "thesis-text")
+    assert "energy_weight" not in tasks.task_params("omni-pdec", "thesis-code")
+    with pytest.raises(ValueError, match="task 'omni-pdec' takes speed, velocity_weight, .*not energy_weight"):
+        tasks.make_task("omni-pdec", "thesis-code", energy_weight=0.1)
+    from mjx_badger.train import TrainConfig
+
+    config = TrainConfig(task="omni-pdec", protocol="thesis-text", task_params=(("energy_weight", 0.0),))
+    assert config.make_task().weights["energy"] == 0.0
+
+
 def test_omni_joint_2d_reward():
     task = tasks.make_task("omni-random")
     command = jnp.array([0.0, 0.5, 0.0])  # left at 0.5 m/s
