@@ -69,6 +69,8 @@ class Train:
     """Folder for the results file."""
     quiet: bool = False
     """No progress bar."""
+    restart: bool = False
+    """Start over, though an interrupted run of this configuration left a checkpoint to resume from."""
 
     def check(self) -> None:
         if self.seeds <= 0:
@@ -83,7 +85,7 @@ class Train:
         out = self.out / f"{config.name}.json"
         print(f"protocol {config.protocol}, robot {config.robot}"
               + "".join(f", {k}={v!r}" for k, v in config.protocol_changes))
-        document = runner.run(config, seeds, out, progress=not self.quiet)
+        document = runner.run(config, seeds, out, progress=not self.quiet, resume=not self.restart)
         print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
               f"compile {document['wall_clock']['compile_s']} s)")
         return 0
@@ -101,7 +103,7 @@ class Reproduce:
     results_dir: Path = Path("results")
     figures_dir: Path = Path("figures")
     force: bool = False
-    """Rerun runs whose complete results exist."""
+    """Rerun runs whose complete results exist, and start interrupted ones over instead of resuming them."""
 
     def check(self) -> None:
         writable_dir(self.results_dir, "results folder")
@@ -351,7 +353,7 @@ def reproduce_command(args) -> int:
             print(f"reuse {twin} for {path}: the same configuration and seeds")
             results.write(path, results.read(twin))
             continue
-        runner.run(config, seeds, path, progress=sys.stderr.isatty() or os.environ.get("CI") is None)
+        runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force)
     for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
         print(f"wrote {path}")
     print(f"done in {(time.perf_counter() - started) / 60:.1f} min")

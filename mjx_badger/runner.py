@@ -1,5 +1,6 @@
 """Host side of a training run: compile once, run chunk by chunk, show progress, write results."""
 
+import json
 import sys
 import time
 from pathlib import Path
@@ -9,7 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 from tqdm import tqdm
 
-from mjx_badger import results
+from mjx_badger import checkpoints, results
 from mjx_badger.train import TrainConfig, make_train
 
 
@@ -30,8 +31,13 @@ def seeds_chunk(trainer, num_seeds: int):
     return single
 
 
-def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True) -> dict:
-    """Train `config` for every seed in one vmapped program; returns the results document."""
+def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True, resume: bool = True) -> dict:
+    """Train `config` for every seed in one vmapped program; returns the results document.
+
+    The carry is checkpointed as it goes (checkpoints.py); with `resume` a run of the same
+    configuration and seeds that was interrupted continues from its last checkpoint, and
+    ends with the numbers an uninterrupted run gives. The checkpoints go once the run is complete.
+    """
     started = results.now()
     trainer = make_train(config)
     keys = jax.vmap(jax.random.PRNGKey)(jnp.asarray(seeds))
@@ -53,31 +59,72 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
         "versions": results.versions(),
         "git_commit": results.git_commit(),
     }
+    saved = checkpoints.Checkpoints(out_path, {"config": document["config"], "seeds": document["seeds"]})
+    first = 0
+    if not resume:
+        saved.remove()
+    else:
+        found = saved.restore(carry)
+        previous = _partial(out_path, document)
+        if found is not None and previous is not None and len(previous["steps"]) >= found[0]:
+            first, carry = found
+            document = _truncated(previous, first)
+            print(f"resuming {out_path.name} at step {first * config.chunk_steps} from {saved.path}", file=sys.stderr)
     label = f"{config.approach} {config.algo} {config.task} x{len(seeds)}"
-    bar = tqdm(total=config.num_chunks * config.chunk_steps, desc=label, unit="step", file=sys.stderr,
-               disable=not progress, dynamic_ncols=True, mininterval=2.0)
-    run_s = 0.0
-    for index in range(config.num_chunks):
+    bar = tqdm(total=config.num_chunks * config.chunk_steps, initial=first * config.chunk_steps, desc=label,
+               unit="step", file=sys.stderr, disable=not progress, dynamic_ncols=True, mininterval=2.0)
+    run_s = document["wall_clock"].get("run_s", 0.0)
+    save_s = document["wall_clock"].get("checkpoint_s", 0.0)
+    every, since_saved = 1, 0
+    for index in range(first, config.num_chunks):
         start = index * config.chunk_steps
         t0 = time.perf_counter()
         carry, metrics = chunk(carry, start)
         metrics = jax.device_get(metrics)
-        run_s += time.perf_counter() - t0
+        chunk_s = time.perf_counter() - t0
+        run_s += chunk_s
         steps = start + config.chunk_steps
         document["steps"].append(steps)
         document["sim_minutes"].append(round(steps / control_hz / 60, 4))
         for name, values in metrics.items():
             document["metrics"].setdefault(name, []).append(np.asarray(values, dtype=float).round(5).tolist())
         document["complete"] = index == config.num_chunks - 1
-        document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2),
+        document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2), checkpoint_s=round(save_s, 2),
                                       seed_steps_per_s=round(steps * len(seeds) / run_s, 1))
         document["hardware"] = results.hardware()
-        results.write(out_path, document)
+        results.write(out_path, document)  # before the checkpoint: the file never runs behind it
+        since_saved += 1
+        if not document["complete"] and since_saved >= every:
+            t0 = time.perf_counter()
+            saved.save(index + 1, carry)
+            took = time.perf_counter() - t0
+            save_s += took
+            every, since_saved = checkpoints.interval(took, chunk_s), 0
         bar.update(config.chunk_steps)
         bar.set_postfix(progress_figures(metrics))
     bar.close()
     document["gait"] = gait_record(trainer, carry, config)
     results.write(out_path, document)
+    saved.remove()
+    return document
+
+
+def _partial(path: Path, fresh: dict) -> dict | None:
+    """The incomplete results file of this very configuration and seeds at `path`, or None."""
+    if not Path(path).exists():
+        return None
+    try:
+        previous = results.read(path)
+    except ValueError:
+        return None
+    same = previous["config"] == json.loads(json.dumps(fresh["config"])) and previous["seeds"] == fresh["seeds"]
+    return previous if same and not previous.get("complete") else None
+
+
+def _truncated(document: dict, chunks: int) -> dict:
+    """`document` as it was after `chunks` chunks (the rows past the checkpoint are run again)."""
+    document["steps"], document["sim_minutes"] = document["steps"][:chunks], document["sim_minutes"][:chunks]
+    document["metrics"] = {name: rows[:chunks] for name, rows in document["metrics"].items()}
     return document
 
 

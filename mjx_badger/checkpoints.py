@@ -1,0 +1,89 @@
+"""Checkpoints of a training run's whole vmapped carry, so an interrupted run resumes where it stopped.
+
+The carry is everything the run has: agent and optimiser states, replay buffers, RNG keys, env
+and curriculum states, for every seed. Restoring it and running the remaining chunks gives
+the numbers of an uninterrupted run bit for bit. A run's checkpoints live beside its results
+file in `<name>.ckpt/`, one orbax step per checkpoint named by the chunks done, with
+`run.json` saying which configuration and seeds they belong to. orbax makes a step visible
+only once it is completely written; a step that cannot be read is skipped for an older one.
+"""
+
+import json
+import math
+import shutil
+import warnings
+from pathlib import Path
+
+import jax
+import numpy as np
+
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")
+    import orbax.checkpoint as ocp
+
+KEEP = 2
+"""Checkpoints kept: the newest and one before it, the fallback if the newest is damaged."""
+MAX_OVERHEAD = 0.05
+"""Checkpointing may cost at most this fraction of the training time; the interval follows from it."""
+
+
+def folder(results_path: Path) -> Path:
+    return Path(results_path).with_suffix(".ckpt")
+
+
+def interval(save_s: float, chunk_s: float) -> int:
+    """Chunks between checkpoints so that saving costs at most MAX_OVERHEAD of the time."""
+    return max(1, math.ceil(save_s / (MAX_OVERHEAD * max(chunk_s, 1e-9))))
+
+
+def _sized(leaves: list) -> dict:
+    """The leaves orbax can store, by position: it refuses empty arrays (an MJX state has some), which restore as they are."""
+    return {str(i): leaf for i, leaf in enumerate(leaves) if np.size(leaf)}
+
+
+class Checkpoints:
+    """The checkpoints of one run: `save(chunks_done, carry)`, `restore(like)`, `remove()`."""
+
+    def __init__(self, results_path: Path, identity: dict):
+        self.path = folder(results_path).absolute()
+        self.identity = json.loads(json.dumps(identity))
+        self._manager = None
+
+    @property
+    def manager(self):
+        if self._manager is None:
+            options = ocp.CheckpointManagerOptions(max_to_keep=KEEP, create=True, enable_async_checkpointing=False)
+            self._manager = ocp.CheckpointManager(self.path, options=options)
+        return self._manager
+
+    def _same_run(self) -> bool:
+        stamp = self.path / "run.json"
+        return stamp.exists() and json.loads(stamp.read_text()) == self.identity
+
+    def save(self, chunks_done: int, carry) -> None:
+        if not self._same_run():
+            self.remove()
+            self.path.mkdir(parents=True)
+            (self.path / "run.json").write_text(json.dumps(self.identity))
+        self.manager.save(chunks_done, args=ocp.args.StandardSave(_sized(jax.tree.leaves(carry))), force=True)
+        self.manager.wait_until_finished()
+
+    def restore(self, like) -> tuple[int, object] | None:
+        """(chunks done, carry) of the newest readable checkpoint of this run, or None; `like` gives the structure."""
+        if not self.path.exists() or not self._same_run():
+            return None
+        leaves, structure = jax.tree.flatten(like)
+        abstract = jax.tree.map(ocp.utils.to_shape_dtype_struct, _sized(leaves))
+        for step in sorted(self.manager.all_steps(), reverse=True):
+            try:
+                stored = self.manager.restore(step, args=ocp.args.StandardRestore(abstract))
+                return step, structure.unflatten([stored.get(str(i), leaf) for i, leaf in enumerate(leaves)])
+            except Exception as error:  # a damaged checkpoint: fall back to the one before
+                warnings.warn(f"checkpoint {self.path / str(step)} cannot be read ({error}); trying an older one")
+        return None
+
+    def remove(self) -> None:
+        if self._manager is not None:
+            self._manager.close()
+            self._manager = None
+        shutil.rmtree(self.path, ignore_errors=True)

@@ -1,0 +1,88 @@
+"""Checkpoints: an interrupted run resumes from its last checkpoint and ends with the numbers of an uninterrupted one."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mjx_badger import checkpoints, results
+
+TRAIN = ["-m", "mjx_badger", "train", "--approach", "jt-nf", "--steps", "600", "--chunk-steps", "100",
+         "--warmup-steps", "100", "--eval-steps", "10", "--seeds", "2", "--quiet"]
+RESULT = "jt-nf_crossq_forward.json"
+
+
+def _carry(scale: float):
+    return {"weights": jnp.arange(6.0) * scale, "key": jax.random.PRNGKey(7), "count": jnp.int32(3)}
+
+
+def test_the_newest_readable_checkpoint_is_restored_bit_for_bit(tmp_path):
+    saved = checkpoints.Checkpoints(tmp_path / "run.json", {"config": {"a": 1}, "seeds": [0]})
+    saved.save(1, _carry(1.0))
+    saved.save(2, _carry(2.0))
+    step, carry = saved.restore(_carry(0.0))
+    assert step == 2 and np.array_equal(carry["weights"], np.arange(6.0) * 2.0)
+    assert np.array_equal(carry["key"], jax.random.PRNGKey(7)) and carry["key"].dtype == jnp.uint32
+    # Damage the newest: the one before it is used.
+    for path in (saved.path / "2").rglob("*"):
+        if path.is_file() and path.name != "commit_success.txt":
+            path.write_bytes(b"\0garbage")
+    step, carry = saved.restore(_carry(0.0))
+    assert step == 1 and np.array_equal(carry["weights"], np.arange(6.0))
+    # Another configuration's checkpoints are not this run's.
+    other = checkpoints.Checkpoints(tmp_path / "run.json", {"config": {"a": 2}, "seeds": [0]})
+    assert other.restore(_carry(0.0)) is None
+    saved.remove()
+    assert not saved.path.exists()
+
+
+def test_the_interval_keeps_checkpointing_under_five_percent():
+    assert checkpoints.interval(save_s=0.1, chunk_s=20.0) == 1
+    assert checkpoints.interval(save_s=3.0, chunk_s=20.0) == 3  # 3 s per 60 s of training = 5 %
+
+
+def _without_clock(document: dict) -> dict:
+    return {k: v for k, v in document.items() if k not in ("wall_clock", "hardware", "versions", "git_commit")}
+
+
+def test_a_run_killed_mid_way_resumes_to_the_uninterrupted_results(tmp_path):
+    env = dict(os.environ, CI="1")
+    whole = subprocess.run([sys.executable, *TRAIN, "--out", str(tmp_path / "whole")], env=env, capture_output=True,
+                           text=True, timeout=900)
+    assert whole.returncode == 0, whole.stderr[-2000:]
+
+    out = tmp_path / "killed"
+    process = subprocess.Popen([sys.executable, *TRAIN, "--out", str(out)], env=env, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL)
+    ckpt = checkpoints.folder(out / RESULT)
+    deadline = time.time() + 900
+    # Kill it once a checkpoint exists and at least one chunk after it has run.
+    while time.time() < deadline and process.poll() is None:
+        steps = [int(p.name) for p in ckpt.glob("*") if p.name.isdigit()] if ckpt.exists() else []
+        try:
+            done = json.loads((out / RESULT).read_text())["steps"]
+        except (FileNotFoundError, json.JSONDecodeError):
+            done = []
+        if steps and max(steps) < len(done) < 6:
+            break
+        time.sleep(0.05)
+    assert process.poll() is None, "the run ended before it could be killed mid-way"
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+    interrupted = json.loads((out / RESULT).read_text())
+    assert not interrupted["complete"] and len(interrupted["steps"]) < 6
+
+    resumed = subprocess.run([sys.executable, *TRAIN, "--out", str(out)], env=env, capture_output=True, text=True,
+                             timeout=900)
+    assert resumed.returncode == 0, resumed.stderr[-2000:]
+    assert "resuming" in resumed.stderr
+    expected, got = (results.read(Path(folder) / RESULT) for folder in (tmp_path / "whole", out))
+    assert _without_clock(got) == _without_clock(expected)
+    assert not ckpt.exists()  # a complete run keeps no checkpoints
