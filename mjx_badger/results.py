@@ -16,10 +16,12 @@ Schema `mjx_badger.results/1`:
                   cumulative: train/falls as the protocol counts them, train/falls_total every
                   termination, train/would_falls the times the termination rule started firing
                   (CPG under thesis-code never terminates), train/blowups non-finite physics states
+    policy        after the last chunk: the file name of every seed's final actor (policy.py's format)
     gait          after the last chunk: a deterministic run under the task's first evaluation
                   command, its second half at the physics rate: physics_dt, seconds, command,
                   contacts (seeds, T, 4) of 0/1 per foot FL, FR, RL, RR, forward_velocity (seeds, T)
-    wall_clock    started / updated (ISO 8601), compile_s, run_s, seed_steps_per_s
+    wall_clock    started / updated (ISO 8601), compile_s, run_s, checkpoint_s (saving the carry,
+                  checkpoints.py), seed_steps_per_s
     versions      python and package versions
     git_commit    commit of the code that ran, "+dirty" when it had local changes
     hardware      platform, cpu count, jax devices, peak resident memory (MiB)

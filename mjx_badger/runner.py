@@ -10,7 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 from tqdm import tqdm
 
-from mjx_badger import checkpoints, results
+from mjx_badger import checkpoints, policy, results
 from mjx_badger.train import TrainConfig, make_train
 
 
@@ -104,9 +104,20 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
         bar.set_postfix(progress_figures(metrics))
     bar.close()
     document["gait"] = gait_record(trainer, carry, config)
+    document["policy"] = save_policy(out_path, trainer, carry, document).name
     results.write(out_path, document)
     saved.remove()
     return document
+
+
+def save_policy(out_path: Path, trainer, carry, document: dict) -> Path:
+    """Every seed's final actor beside the results file, in policy.py's NumPy format."""
+    env = trainer.env
+    params, stats = jax.device_get((carry.agent_state.actor_params, carry.agent_state.actor_stats))
+    meta = {"seeds": document["seeds"], "config": document["config"], "control_hz": env.control_hz,
+            "observation_layout": [list(block) for block in env.observation_layout],
+            "observation_size": env.observation_size, "action_size": env.action_size}
+    return policy.save(policy.path_for(out_path), params, stats, meta)
 
 
 def _partial(path: Path, fresh: dict) -> dict | None:

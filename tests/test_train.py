@@ -6,7 +6,7 @@ import jax
 import numpy as np
 
 from conftest import TINY_TRAIN, seed_keys
-from mjx_badger import evaluation, plots, results, runner
+from mjx_badger import evaluation, plots, policy, results, runner
 from mjx_badger.experiments import EXPERIMENTS, result_name
 from mjx_badger.train import TrainConfig
 
@@ -77,6 +77,9 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     assert document["config"]["env"]["protocol"]["termination"] == "thesis-code"
     assert np.array(document["metrics"]["train/forward_velocity"]).shape == (3, 2)
     assert _evaluation_schema(document["metrics"]) == ({"forward"}, set(evaluation.RUN_METRICS))
+    saved = policy.load(path.parent / document["policy"], seed=1)
+    assert saved.meta["config"] == document["config"] and saved.meta["seeds"] == [0, 1]
+    assert np.abs(saved(np.zeros(saved.observation_size))).max() <= 1.0
     assert document["metrics"]["train/critic_loss"][0] == [None, None]  # NaN is written as null
     assert document["versions"]["mujoco"] and document["git_commit"]
     assert document["wall_clock"]["compile_s"] > 0 and document["hardware"]["peak_memory_mib"] > 0

@@ -1,0 +1,98 @@
+"""Saved policies: each seed's final actor, run with NumPy alone, so a robot's computer needs no JAX.
+
+Format `mjx_badger.policy/1`, one `<name>.policy.npz` beside a run's results file:
+    meta              JSON: format, seeds, config (the results file's: robot, approach and its
+                      parameters, algorithm, task, protocol, resolved env and agent settings),
+                      observation_layout [[block, size, scale], ...] (the observation is the
+                      blocks in this order, each multiplied by its scale), observation_size,
+                      action_size, control_hz, and layers, the actor as a list of operations
+    <layer>/<array>   each layer's arrays with a leading seed axis
+The layers run in order: {"op": "renorm", "name", "epsilon"} y = (x - mean) / sqrt(var + eps)
+* scale + bias (batch renormalisation with its running statistics, the released CrossQ's
+actor), {"op": "dense", "name"} y = x @ kernel + bias, {"op": "relu"}. The deterministic
+action, in [-1, 1] per action dimension, is tanh of the last layer's output (the mean of
+the tanh-Gaussian policy); `actions.py` turns it into joint targets.
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+FORMAT = "mjx_badger.policy/1"
+RENORM_EPSILON = 1e-3  # agents/networks.BatchRenorm's
+
+
+def path_for(results_path: Path) -> Path:
+    return Path(results_path).with_suffix(".policy.npz")
+
+
+def actor_layers(hidden_layers: int, batch_renorm: bool) -> list[dict]:
+    """The operations of the flax Actor (agents/networks.py) up to its mean, by its modules' names."""
+    renorm = lambda i: [{"op": "renorm", "name": f"BatchRenorm_{i}", "epsilon": RENORM_EPSILON}] if batch_renorm else []
+    layers = renorm(0)
+    for i in range(hidden_layers):
+        layers += [{"op": "dense", "name": f"Dense_{i}"}, {"op": "relu"}] + renorm(i + 1)
+    return layers + [{"op": "dense", "name": f"Dense_{hidden_layers}"}]
+
+
+def save(path: Path, params: dict, stats: dict, meta: dict) -> Path:
+    """Write the actors (flax `params` and `batch_stats` as NumPy arrays with a leading seed axis) and `meta`."""
+    params = params.get("params", params)  # the agent keeps flax's {"params": ...} wrapper
+    agent = meta["config"]["agent"]
+    layers = actor_layers(len(agent["hidden"]), agent["actor_batch_renorm"])
+    arrays = {}
+    for layer in layers:
+        if layer["op"] == "dense":
+            arrays |= {f"{layer['name']}/{k}": params[layer["name"]][k] for k in ("kernel", "bias")}
+        elif layer["op"] == "renorm":
+            arrays |= {f"{layer['name']}/{k}": params[layer["name"]][k] for k in ("scale", "bias")}
+            arrays |= {f"{layer['name']}/{k}": stats[layer["name"]][k] for k in ("mean", "var")}
+    document = dict(meta, format=FORMAT, layers=layers)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp.npz")
+    np.savez(tmp, meta=np.array(json.dumps(document)), **{k: np.asarray(v, np.float32) for k, v in arrays.items()})
+    tmp.replace(path)
+    return path
+
+
+class Policy:
+    """One seed's saved actor: `policy(observation) -> action` in [-1, 1], NumPy only."""
+
+    def __init__(self, path: Path, seed: int | None = None):
+        with np.load(path) as data:
+            self.meta = json.loads(str(data["meta"]))
+            if self.meta.get("format") != FORMAT:
+                raise ValueError(f"{path}: not a {FORMAT} file")
+            seeds = self.meta["seeds"]
+            seed = seeds[0] if seed is None else seed
+            if seed not in seeds:
+                raise ValueError(f"{path} holds seeds {seeds}, not {seed}")
+            index = seeds.index(seed)
+            self.arrays = {k: data[k][index] for k in data.files if k != "meta"}
+        self.seed = seed
+        self.layers = self.meta["layers"]
+
+    @property
+    def observation_size(self) -> int:
+        return self.meta["observation_size"]
+
+    def __call__(self, observation) -> np.ndarray:
+        x = np.asarray(observation, np.float32)
+        if x.shape[-1] != self.observation_size:
+            raise ValueError(f"observation of size {x.shape[-1]}, the policy takes {self.observation_size}")
+        for layer in self.layers:
+            a = lambda name: self.arrays[f"{layer['name']}/{name}"]
+            if layer["op"] == "dense":
+                x = x @ a("kernel") + a("bias")
+            elif layer["op"] == "relu":
+                x = np.maximum(x, 0.0)
+            else:
+                x = (x - a("mean")) / np.sqrt(a("var") + layer["epsilon"]) * a("scale") + a("bias")
+        return np.tanh(x)
+
+
+def load(path: Path, seed: int | None = None) -> Policy:
+    """The saved policy of `seed` (default the first seed of the run)."""
+    return Policy(path, seed)
