@@ -244,6 +244,57 @@ class Realtime:
 
 
 @dataclasses.dataclass(frozen=True)
+class Evaluate:
+    """Run a run's saved policy on native MuJoCo (or MJX): velocity from the trunk's positions, falls, gait frequency."""
+
+    results: tyro.conf.Positional[Path]
+    """A training run's results file; its saved policy lies beside it."""
+    seed: Optional[int] = None
+    """Which seed's policy (default: the run's first)."""
+    command: Optional[str] = None
+    """VX,VY,YAW (m/s, m/s, rad/s); default: the task's first evaluation command."""
+    seconds: float = 20.0
+    engine: Literal["native", "mjx"] = "native"
+    """native: mujoco.mj_step, as a robot's computer could; mjx: the training env, for comparison."""
+    json: Optional[Path] = None
+    """Also write the report here."""
+
+    def check(self) -> None:
+        from mjx_badger import policy, results
+
+        if not self.results.exists():
+            raise ValueError(f"no results file {str(self.results)!r}")
+        document = results.read(self.results)
+        if "policy" not in document:
+            raise ValueError(f"{self.results} has no saved policy (complete runs since policies are saved have one)")
+        saved = self.results.parent / document["policy"]
+        policy.load(saved, self.seed)  # the seed exists
+        if self.command is not None:
+            try:
+                vx, vy, yaw = (float(x) for x in self.command.split(","))
+            except ValueError:
+                raise ValueError(f"--command takes VX,VY,YAW, three numbers; got {self.command!r}") from None
+        if self.seconds <= 0:
+            raise ValueError(f"--seconds must be positive, not {self.seconds}")
+
+    def __call__(self) -> int:
+        from mjx_badger import native, policy, results
+
+        document = results.read(self.results)
+        actor = policy.load(self.results.parent / document["policy"], self.seed)
+        env = native.evaluation_env(results.train_config(document), self.seconds)
+        command = ([float(x) for x in self.command.split(",")] if self.command
+                   else list(next(iter(env.task.eval_commands.values()))))
+        run = native.run_native if self.engine == "native" else native.run_mjx
+        report = dict(run(env, actor, command, self.seconds), engine=self.engine, seed=actor.seed)
+        print(json.dumps(report, indent=1))
+        if self.json:
+            self.json.parent.mkdir(parents=True, exist_ok=True)
+            self.json.write_text(json.dumps(report, indent=1))
+        return 0
+
+
+@dataclasses.dataclass(frozen=True)
 class List:
     """List approaches, algorithms, tasks, experiments, profiles, protocols, robots and everyone's parameters."""
 
@@ -268,7 +319,7 @@ class List:
 
 
 COMMANDS = {"train": Train, "reproduce": Reproduce, "figures": Figures, "claims": Claims, "attribute": Attribute,
-            "realtime": Realtime, "list": List}
+            "realtime": Realtime, "evaluate": Evaluate, "list": List}
 
 
 def one_line(box: str) -> str:

@@ -95,6 +95,19 @@ def config_dict(config) -> dict:
     return data
 
 
+def train_config(document: dict):
+    """The TrainConfig a results document was written by; ValueError if it cannot be rebuilt exactly."""
+    from mjx_badger.train import TrainConfig
+
+    as_tuple = lambda v: tuple(as_tuple(x) for x in v) if isinstance(v, list) else v
+    stored = document["config"]
+    fields = {f.name for f in dataclasses.fields(TrainConfig)} - {"env", "agent"}
+    config = TrainConfig(**{k: as_tuple(v) for k, v in stored.items() if k in fields})
+    if json.loads(json.dumps(config_dict(config))) != {**json.loads(json.dumps(config_dict(config))), **stored}:
+        raise ValueError("the results' env or agent settings differ from their protocol's; cannot rebuild the run")
+    return config
+
+
 def _clean(value):
     """JSON has no NaN: undefined numbers become null."""
     if isinstance(value, float) and not math.isfinite(value):

@@ -7,6 +7,7 @@ import numpy as np
 
 from conftest import TINY_TRAIN, seed_keys
 from mjx_badger import evaluation, plots, policy, results, runner
+from mjx_badger.cli import main
 from mjx_badger.experiments import EXPERIMENTS, result_name
 from mjx_badger.train import TrainConfig
 
@@ -80,6 +81,11 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     saved = policy.load(path.parent / document["policy"], seed=1)
     assert saved.meta["config"] == document["config"] and saved.meta["seeds"] == [0, 1]
     assert np.abs(saved(np.zeros(saved.observation_size))).max() <= 1.0
+    report = tmp_path / "evaluation.json"
+    assert main(["evaluate", str(path), "--seed", "1", "--seconds", "2", "--json", str(report)]) == 0
+    native_run = json.loads(report.read_text())
+    assert native_run["engine"] == "native" and native_run["seed"] == 1 and native_run["command"] == [0.5, 0.0, 0.0]
+    assert np.isfinite(native_run["velocity_along_command"]) and native_run["falls"] >= 0
     assert document["metrics"]["train/critic_loss"][0] == [None, None]  # NaN is written as null
     assert document["versions"]["mujoco"] and document["git_commit"]
     assert document["wall_clock"]["compile_s"] > 0 and document["hardware"]["peak_memory_mib"] > 0
