@@ -4,6 +4,26 @@ import os
 from pathlib import Path
 
 
+
+def _choose_offscreen_gl() -> None:
+    """MUJOCO_GL for videos without a display, set before MuJoCo is first imported (it reads it then).
+
+    The user's EGL or OSMesa if its library exists here, EGL by default; otherwise rendering is
+    disabled, because MuJoCo's import itself fails on a backend whose library is missing, and
+    `render` then says what to install.
+    """
+    import ctypes.util
+
+    libraries = {"egl": "EGL", "osmesa": "OSMesa"}
+    chosen = os.environ.get("MUJOCO_GL", "egl").lower()
+    if chosen in libraries and ctypes.util.find_library(libraries[chosen]) is None:
+        chosen = "disable"
+    os.environ["MUJOCO_GL"] = chosen
+
+
+_choose_offscreen_gl()
+
+
 def enable_compilation_cache(path: str | os.PathLike | None = None) -> Path:
     """Keep XLA executables on disk so a rerun of the same configuration skips compilation."""
     import jax

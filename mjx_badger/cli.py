@@ -244,8 +244,8 @@ class Realtime:
 
 
 @dataclasses.dataclass(frozen=True)
-class Evaluate:
-    """Run a run's saved policy on native MuJoCo (or MJX): velocity from the trunk's positions, falls, gait frequency."""
+class SavedRun:
+    """A training run's saved policy, one seed of it, under one command for some seconds."""
 
     results: tyro.conf.Positional[Path]
     """A training run's results file; its saved policy lies beside it."""
@@ -254,10 +254,6 @@ class Evaluate:
     command: Optional[str] = None
     """VX,VY,YAW (m/s, m/s, rad/s); default: the task's first evaluation command."""
     seconds: float = 20.0
-    engine: Literal["native", "mjx"] = "native"
-    """native: mujoco.mj_step, as a robot's computer could; mjx: the training env, for comparison."""
-    json: Optional[Path] = None
-    """Also write the report here."""
 
     def check(self) -> None:
         from mjx_badger import policy, results
@@ -267,17 +263,17 @@ class Evaluate:
         document = results.read(self.results)
         if "policy" not in document:
             raise ValueError(f"{self.results} has no saved policy (complete runs since policies are saved have one)")
-        saved = self.results.parent / document["policy"]
-        policy.load(saved, self.seed)  # the seed exists
+        policy.load(self.results.parent / document["policy"], self.seed)  # the seed exists
         if self.command is not None:
             try:
-                vx, vy, yaw = (float(x) for x in self.command.split(","))
-            except ValueError:
+                [float(x) for x in self.command.split(",")][2]
+            except (ValueError, IndexError):
                 raise ValueError(f"--command takes VX,VY,YAW, three numbers; got {self.command!r}") from None
         if self.seconds <= 0:
             raise ValueError(f"--seconds must be positive, not {self.seconds}")
 
-    def __call__(self) -> int:
+    def load(self):
+        """(env, actor, command) of the run: its env with one long episode, the seed's NumPy actor, the command."""
         from mjx_badger import native, policy, results
 
         document = results.read(self.results)
@@ -285,12 +281,57 @@ class Evaluate:
         env = native.evaluation_env(results.train_config(document), self.seconds)
         command = ([float(x) for x in self.command.split(",")] if self.command
                    else list(next(iter(env.task.eval_commands.values()))))
+        return env, actor, command
+
+
+@dataclasses.dataclass(frozen=True)
+class Evaluate(SavedRun):
+    """Run a run's saved policy on native MuJoCo (or MJX): velocity from the trunk's positions, falls, gait frequency."""
+
+    engine: Literal["native", "mjx"] = "native"
+    """native: mujoco.mj_step, as a robot's computer could; mjx: the training env, for comparison."""
+    json: Optional[Path] = None
+    """Also write the report here."""
+
+    def __call__(self) -> int:
+        from mjx_badger import native
+
+        env, actor, command = self.load()
         run = native.run_native if self.engine == "native" else native.run_mjx
         report = dict(run(env, actor, command, self.seconds), engine=self.engine, seed=actor.seed)
         print(json.dumps(report, indent=1))
         if self.json:
             self.json.parent.mkdir(parents=True, exist_ok=True)
             self.json.write_text(json.dumps(report, indent=1))
+        return 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Render(SavedRun):
+    """A GIF of a run's saved policy walking on native MuJoCo, rendered offscreen (EGL or OSMesa)."""
+
+    seconds: float = 5.0
+    out: Path = Path("gait.gif")
+    """The video file (.gif)."""
+
+    def check(self) -> None:
+        super().check()
+        if self.out.suffix.lower() != ".gif":
+            raise ValueError(f"--out {self.out.name}: videos are written as .gif (an .mp4 needs ffmpeg, not installed)")
+        from mjx_badger import render, robot
+
+        try:
+            render.check_gl(robot.load_model())
+        except RuntimeError as error:
+            raise ValueError(str(error)) from None
+
+    def __call__(self) -> int:
+        from mjx_badger import render
+
+        env, actor, command = self.load()
+        report = render.record(env, actor, command, self.seconds, self.out)
+        print(f"wrote {self.out} ({report['frames']} frames; {report['velocity_along_command']:.2f} m/s along "
+              f"the command, {report['falls']} falls)")
         return 0
 
 
@@ -319,7 +360,7 @@ class List:
 
 
 COMMANDS = {"train": Train, "reproduce": Reproduce, "figures": Figures, "claims": Claims, "attribute": Attribute,
-            "realtime": Realtime, "evaluate": Evaluate, "list": List}
+            "realtime": Realtime, "evaluate": Evaluate, "render": Render, "list": List}
 
 
 def one_line(box: str) -> str:

@@ -88,8 +88,12 @@ def run_mjx(env: HB40Env, act: Callable, command, seconds: float, seed: int = 0)
     return track.summary(np.asarray(command), seconds, env.spec.physics_dt)
 
 
-def run_native(env: HB40Env, act: Callable, command, seconds: float, seed: int = 0) -> dict:
-    """`act(observation) -> action` for `seconds` on native MuJoCo, the env's model and pipelines, under `command`."""
+def run_native(env: HB40Env, act: Callable, command, seconds: float, seed: int = 0,
+               on_step: Callable | None = None) -> dict:
+    """`act(observation) -> action` for `seconds` on native MuJoCo, the env's model and pipelines, under `command`.
+
+    `on_step(model, data)` sees the physics after every control step (videos draw from it).
+    """
     model, spec, protocol = env.mj_model, env.spec, env.protocol
     data = mujoco.MjData(model)
     command = jnp.asarray(command, jnp.float32)
@@ -132,6 +136,8 @@ def run_native(env: HB40Env, act: Callable, command, seconds: float, seed: int =
         power_steps = power_steps + 1 if np.sum(np.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W else 0
         fallen = bool(fall(view, motion, power_steps)) and env.terminates
         track.step(before, data.qpos.copy(), fallen)
+        if on_step is not None:
+            on_step(model, data)
         if fallen:
             action_state, previous_target, gyro, obs, power_steps = fresh()
     return track.summary(np.asarray(command), seconds, spec.physics_dt)

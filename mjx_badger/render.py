@@ -1,0 +1,56 @@
+"""Videos of a policy: native MuJoCo rendered offscreen (EGL or OSMesa) by `mujoco.Renderer`, as a GIF.
+
+The camera follows the trunk from the front left, a little above it. MP4 needs an ffmpeg
+binary, which this suite does not install; a GIF needs only Pillow (matplotlib's).
+"""
+
+from pathlib import Path
+from typing import Callable
+
+import mujoco
+import numpy as np
+
+from mjx_badger import native
+
+GL_HELP = ("offscreen rendering needs an OpenGL backend without a display: install EGL (apt install libegl1) "
+           "or OSMesa (apt install libosmesa6) and set MUJOCO_GL=egl or MUJOCO_GL=osmesa")
+
+
+def check_gl(model: mujoco.MjModel) -> None:
+    """Raise RuntimeError with the install line if no offscreen OpenGL context can be made here."""
+    try:
+        mujoco.Renderer(model, 8, 8).close()
+    except Exception as error:  # mujoco.FatalError, or a backend library that is missing
+        raise RuntimeError(f"{GL_HELP} ({error})") from None
+
+
+def record(env, act: Callable, command, seconds: float, out: Path, fps: float = 25.0,
+           size: tuple = (480, 360)) -> dict:
+    """Run `act` on native MuJoCo for `seconds` and write the frames to `out` (.gif); returns the evaluation."""
+    out = Path(out)
+    if out.suffix.lower() != ".gif":
+        raise ValueError(f"{out.name}: videos are written as .gif (an .mp4 needs ffmpeg, which is not installed)")
+    width, height = size
+    renderer = mujoco.Renderer(env.mj_model, height, width)
+    camera = mujoco.MjvCamera()
+    camera.distance, camera.elevation, camera.azimuth = 1.4, -20.0, 135.0
+    every = max(1, int(round(env.control_hz / fps)))
+    frames, count = [], [0]
+    trunk = env.mj_model.body("trunk").id
+
+    def draw(model, data):
+        count[0] += 1
+        if count[0] % every == 0:
+            camera.lookat[:] = data.xpos[trunk]
+            renderer.update_scene(data, camera)
+            frames.append(renderer.render().copy())
+
+    report = native.run_native(env, act, command, seconds, on_step=draw)
+    renderer.close()
+    from PIL import Image
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    images = [Image.fromarray(np.asarray(frame)) for frame in frames]
+    images[0].save(out, save_all=True, append_images=images[1:], duration=int(round(1000 * every / env.control_hz)),
+                   loop=0)
+    return dict(report, frames=len(frames), video=str(out))
