@@ -448,6 +448,10 @@ def reproduce_command(args) -> int:
         runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force)
     for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
         print(f"wrote {path}")
+    from mjx_badger import render
+
+    for path in render.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
+        print(f"wrote {path} (the best seed's gait, native MuJoCo)")
     print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
     print()
     boards = {name: claims.score(args.results_dir / args.profile, name) for name in PROTOCOLS}

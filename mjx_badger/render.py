@@ -54,3 +54,43 @@ def record(env, act: Callable, command, seconds: float, out: Path, fps: float = 
     images[0].save(out, save_all=True, append_images=images[1:], duration=int(round(1000 * every / env.control_hz)),
                    loop=0)
     return dict(report, frames=len(frames), video=str(out))
+
+
+def best(folder: Path) -> tuple[Path, int, float] | None:
+    """(results file, seed, final evaluation return) of the best seed among an experiment's runs with saved policies."""
+    from mjx_badger import analysis, results
+
+    found = None
+    for path in sorted(Path(folder).glob("*.json")):
+        document = results.read(path)
+        if not document.get("complete") or "policy" not in document or not (path.parent / document["policy"]).exists():
+            continue
+        returns = analysis.final(document, "eval/return")
+        index = int(np.nanargmax(returns))
+        if found is None or returns[index] > found[2]:
+            found = (path, document["seeds"][index], float(returns[index]))
+    return found
+
+
+def draw(results_dir: Path, figures_dir: Path, profile: str, names, protocol: str, seconds: float = 4.0) -> list[Path]:
+    """A GIF of the best seed of each experiment (highest final evaluation return), where rendering works here."""
+    from mjx_badger import policy, results, robot
+
+    try:
+        check_gl(robot.load_model())
+    except RuntimeError as error:
+        print(f"no videos: {error}")
+        return []
+    written = []
+    for name in names:
+        chosen = best(Path(results_dir) / name)
+        if chosen is None:
+            continue
+        path, seed, _ = chosen
+        document = results.read(path)
+        env = native.evaluation_env(results.train_config(document), seconds)
+        actor = policy.load(path.parent / document["policy"], seed)
+        out = Path(figures_dir) / protocol / f"{name}_{profile}.gif"
+        record(env, actor, list(next(iter(env.task.eval_commands.values()))), seconds, out, size=(320, 240))
+        written.append(out)
+    return written

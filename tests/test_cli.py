@@ -113,6 +113,7 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
     ran = []
     monkeypatch.setattr("mjx_badger.runner.run", lambda config, seeds, path, **kwargs: ran.append(path.name))
     monkeypatch.setattr("mjx_badger.plots.draw", lambda *args: [])
+    monkeypatch.setattr("mjx_badger.render.draw", lambda *args: [])
     monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])
     folder = tmp_path / "smoke" / "thesis-code" / "forward"
     for index, run in enumerate(experiment.runs):

@@ -89,6 +89,10 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     native_run = json.loads(report.read_text())
     assert native_run["engine"] == "native" and native_run["seed"] == 1 and native_run["command"] == [0.5, 0.0, 0.0]
     assert np.isfinite(native_run["velocity_along_command"]) and native_run["falls"] >= 0
+    from mjx_badger import render
+
+    videos = render.draw(tmp_path / "results", tmp_path / "figures", "smoke", ["forward"], "thesis-code", seconds=0.5)
+    assert [p.name for p in videos] == ["forward_smoke.gif"] and videos[0].parent.name == "thesis-code"
     gif = tmp_path / "gait.gif"
     assert main(["render", str(path), "--seconds", "1", "--out", str(gif)]) == 0
     from PIL import Image
