@@ -87,3 +87,29 @@ class Checkpoints:
             self._manager.close()
             self._manager = None
         shutil.rmtree(self.path, ignore_errors=True)
+
+
+def agents_folder(results_path: Path) -> Path:
+    return Path(results_path).with_suffix(".agents")
+
+
+def save_agents(results_path: Path, agent_states) -> Path:
+    """Every seed's final agent (actor, critic, targets, temperature, optimiser states) beside the results file.
+
+    The saved policy (policy.py) is what acts; this is what goes on learning from where the run
+    stopped, e.g. on the robot.
+    """
+    path = agents_folder(results_path).absolute()
+    shutil.rmtree(path, ignore_errors=True)
+    with ocp.StandardCheckpointer() as checkpointer:
+        checkpointer.save(path, _sized(jax.tree.leaves(agent_states)))
+    return path
+
+
+def load_agents(results_path: Path, like):
+    """The agents `save_agents` wrote, in the structure of `like` (the same seeds' freshly initialised agents)."""
+    leaves, structure = jax.tree.flatten(like)
+    abstract = jax.tree.map(ocp.utils.to_shape_dtype_struct, _sized(leaves))
+    with ocp.StandardCheckpointer() as checkpointer:
+        stored = checkpointer.restore(agents_folder(results_path).absolute(), abstract)
+    return structure.unflatten([stored.get(str(i), leaf) for i, leaf in enumerate(leaves)])

@@ -17,6 +17,8 @@ Schema `mjx_badger.results/1`:
                   termination, train/would_falls the times the termination rule started firing
                   (CPG under thesis-code never terminates), train/blowups non-finite physics states
     policy        after the last chunk: the file name of every seed's final actor (policy.py's format)
+    agents        after the last chunk: the folder of every seed's whole final agent, critic and
+                  optimiser states included (checkpoints.save_agents / load_agents)
     gait          after the last chunk: a deterministic run under the task's first evaluation
                   command, its second half at the physics rate: physics_dt, seconds, command,
                   contacts (seeds, T, 4) of 0/1 per foot FL, FR, RL, RR, forward_velocity (seeds, T)

@@ -105,6 +105,7 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     bar.close()
     document["gait"] = gait_record(trainer, carry, config)
     document["policy"] = save_policy(out_path, trainer, carry, document).name
+    document["agents"] = checkpoints.save_agents(out_path, carry.agent_state).name
     results.write(out_path, document)
     saved.remove()
     return document

@@ -43,6 +43,14 @@ def test_the_newest_readable_checkpoint_is_restored_bit_for_bit(tmp_path):
     assert not saved.path.exists()
 
 
+def test_final_agents_are_saved_and_loaded_bit_for_bit(tmp_path):
+    agents = {"actor": jnp.arange(8.0).reshape(2, 4), "empty": jnp.zeros((2, 0)), "updates": jnp.array([5, 6])}
+    checkpoints.save_agents(tmp_path / "run.json", agents)
+    like = jax.tree.map(jnp.zeros_like, agents)
+    loaded = checkpoints.load_agents(tmp_path / "run.json", like)
+    assert all(np.array_equal(a, b) and a.dtype == b.dtype for a, b in zip(jax.tree.leaves(loaded), jax.tree.leaves(agents)))
+
+
 def test_the_interval_keeps_checkpointing_under_five_percent():
     assert checkpoints.interval(save_s=0.1, chunk_s=20.0) == 1
     assert checkpoints.interval(save_s=3.0, chunk_s=20.0) == 3  # 3 s per 60 s of training = 5 %

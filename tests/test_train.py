@@ -81,6 +81,7 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     assert document["config"]["env"]["protocol"]["termination"] == "thesis-code"
     assert np.array(document["metrics"]["train/forward_velocity"]).shape == (3, 2)
     assert _evaluation_schema(document["metrics"]) == ({"forward"}, set(evaluation.RUN_METRICS))
+    assert (path.parent / document["agents"]).is_dir()
     saved = policy.load(path.parent / document["policy"], seed=1)
     assert saved.meta["config"] == document["config"] and saved.meta["seeds"] == [0, 1]
     assert np.abs(saved(np.zeros(saved.observation_size))).max() <= 1.0
