@@ -36,6 +36,11 @@ class RealtimeConfig(RunSpec):
     """Deterministic run after training, as the thesis's evaluation runs (0 skips it)."""
     seed: int = 0
     """Seed of the agent, the commands and the simulated robot's noise."""
+    init_from: str | None = None
+    """A training run's results file (thesis-text, same approach, algorithm and networks) whose saved agent
+    the loop starts from, learning on from it; None: a fresh agent."""
+    init_seed: int = 0
+    """Which seed of `init_from`."""
     agent: tyro.conf.Suppress[AgentConfig | None] = None
     """Agent settings; None means the protocol's configuration of `algo` with `algo_params`."""
 
@@ -73,6 +78,10 @@ class RealtimeConfig(RunSpec):
             raise ValueError("steps must be positive and warm-up steps not negative")
         if self.warmup_steps >= self.steps:
             raise ValueError(f"warmup_steps ({self.warmup_steps}) must be smaller than steps ({self.steps})")
+        if self.init_from is not None:
+            from mjx_badger.realtime import pretrained
+
+            pretrained.check(self)
 
     def make_task(self) -> tasks.Task:
         """The task under the protocol, the forward one at `target_velocity`."""

@@ -10,7 +10,7 @@ from pathlib import Path
 import jax
 
 from mjx_badger import results
-from mjx_badger.realtime import checkpoint, control, report, scheduling
+from mjx_badger.realtime import checkpoint, control, pretrained, report, scheduling
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.control import Progress, build
 from mjx_badger.realtime.estimation import KalmanConfig, VelocityEstimator
@@ -39,7 +39,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     saved = checkpoint.path(out_dir, config)
     key = jax.random.PRNGKey(config.seed)
     key, agent_key, learner_key = jax.random.split(key, 3)
-    agent_state = agent.init(agent_key)
+    agent_state = pretrained.load(config, agent) if config.init_from else agent.init(agent_key)
     task_state = task.init()
     buffer = HostReplay(config.steps, env.observation_size, env.action_size)
     progress = Progress(config.steps)
