@@ -12,22 +12,6 @@ import tempfile
 from pathlib import Path
 
 from mjx_badger import results, runner
-from mjx_badger.experiments import EXPERIMENTS
-from mjx_badger.train import TrainConfig
-
-
-def config_of(document: dict) -> TrainConfig:
-    """The TrainConfig a results file was written by, found among the experiments' runs of its profile."""
-    stored = document["config"]
-    for experiment in EXPERIMENTS.values():
-        for run in experiment.runs:
-            for profile in ("smoke", "quick", "full"):
-                config = experiment.train_config(run, profile, stored["protocol"])
-                wanted = json.loads(json.dumps(results.config_dict(config)))
-                # Fields added after the file was written hold their defaults.
-                if {**{k: v for k, v in wanted.items() if k not in stored and v == []}, **stored} == wanted:
-                    return config
-    raise SystemExit("no experiment run of any profile has this file's configuration")
 
 
 def compare(old: dict, new: dict) -> dict:
@@ -45,7 +29,7 @@ def main():
     args = parser.parse_args()
     old = results.read(args.results_file)
     with tempfile.TemporaryDirectory() as folder:
-        new = runner.run(config_of(old), old["seeds"], Path(folder) / args.results_file.name, progress=True)
+        new = runner.run(results.train_config(old), old["seeds"], Path(folder) / args.results_file.name, progress=True)
     print(json.dumps(compare(old, results.upgrade(new)), indent=1))
 
 

@@ -13,6 +13,7 @@ each foot 0.252 m below and 0.102 m outboard of its hip.
 """
 
 import dataclasses
+import functools
 import math
 
 import mujoco
@@ -117,17 +118,17 @@ class RobotSpec:
     def foot_geoms(self) -> tuple:
         return tuple(f"{leg}_foot" for leg in self.legs)
 
-    @property
+    @functools.cached_property
     def front_sign(self) -> np.ndarray:
         """Per leg: +1 front, -1 rear."""
         return np.array([1.0 if leg[0] == "F" else -1.0 for leg in self.legs])
 
-    @property
+    @functools.cached_property
     def left_sign(self) -> np.ndarray:
         """Per leg: +1 left, -1 right."""
         return np.array([1.0 if leg[1] == "L" else -1.0 for leg in self.legs])
 
-    @property
+    @functools.cached_property
     def hip_positions(self) -> np.ndarray:
         """Hip (abduction) joints in the trunk frame (legs, 3); a foot in the trunk frame is this + kinematics.forward()."""
         return np.stack([self.front_sign * self.hip_x, self.left_sign * self.hip_y, np.zeros(len(self.legs))], axis=-1)

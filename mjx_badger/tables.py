@@ -54,30 +54,32 @@ def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> st
     return "\n".join(lines) + "\n"
 
 
-def max_velocity_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
-    """Tables 6.1/6.2 (simulation column) with our maximal velocities beside the thesis's."""
-    lines = ["| approach | seeds x steps | max velocity, thesis (m/s) | ours: final train velocity mean [best seed] "
-             "| ours: final eval velocity mean [best seed] | falls mean [min-max] (ours / thesis) "
-             "| gait Hz (ours / thesis) |", "|---|---|---|---|---|---|---|"]
+def _per_run(experiment: Experiment, documents: dict, columns: list[str], cells) -> str:
+    """A table with one row per run: approach and size, then `cells(document, summary, thesis numbers)`."""
+    lines = ["| " + " | ".join(["approach", "seeds x steps", *columns]) + " |", "|---" * (len(columns) + 2) + "|"]
     for label, document in documents.items():
         s = summarize(document, None)
-        thesis = experiment.thesis_numbers.get(label, {})
-        lines.append(
-            f"{_run_cells(label, s)} | {_thesis(thesis, 'max_velocity', '{}')} "
-            f"| {s['final_velocity']:.2f} [{s['final_velocity_max']:.2f}] "
-            f"| {_value(s['final_eval_velocity'])} [{_value(s['final_eval_velocity_max'])}] "
-            f"| {_falls_cell(s, thesis)} | {_gait_cell(s, thesis)} |")
+        lines.append(f"{_run_cells(label, s)} | {cells(document, s, experiment.thesis_numbers.get(label, {}))} |")
     return "\n".join(lines) + "\n"
+
+
+def max_velocity_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
+    """Tables 6.1/6.2 (simulation column) with our maximal velocities beside the thesis's."""
+    columns = ["max velocity, thesis (m/s)", "ours: final train velocity mean [best seed]",
+               "ours: final eval velocity mean [best seed]", "falls mean [min-max] (ours / thesis)",
+               "gait Hz (ours / thesis)"]
+    return _per_run(experiment, documents, columns, lambda document, s, thesis: (
+        f"{_thesis(thesis, 'max_velocity', '{}')} | {s['final_velocity']:.2f} [{s['final_velocity_max']:.2f}] "
+        f"| {_value(s['final_eval_velocity'])} [{_value(s['final_eval_velocity_max'])}] "
+        f"| {_falls_cell(s, thesis)} | {_gait_cell(s, thesis)}"))
 
 
 def omni_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
     """Final evaluation per approach: errors, velocity along the command per direction, falls, curriculum."""
-    lines = ["| approach | seeds x steps | desired / lateral / yaw MAE | velocity along command at 0.5 m/s: "
-             "forward, backward, left, right | same at 0.25 m/s | falls mean [min-max] (ours / thesis) "
-             "| bins learned | thesis finding |", "|---|---|---|---|---|---|---|---|"]
-    for label, document in documents.items():
-        s = summarize(document, None)
-        thesis = experiment.thesis_numbers.get(label, {})
+    columns = ["desired / lateral / yaw MAE", "velocity along command at 0.5 m/s: forward, backward, left, right",
+               "same at 0.25 m/s", "falls mean [min-max] (ours / thesis)", "bins learned", "thesis finding"]
+
+    def cells(document, s, thesis):
         f = lambda name: float(np.nanmean(final(document, name)))
         errors = " / ".join(f"{f(f'eval/{k}_mae'):.2f}" for k in ("desired", "lateral", "yaw"))
         speeds = [", ".join(f"{f(f'eval/{d}_{level}/desired_velocity'):.2f}" for d in DIRECTIONS)
@@ -85,10 +87,9 @@ def omni_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
         bins = (f"{float(np.mean(series(document, 'curriculum/learned_bins')[-1])):.1f}"
                 if "curriculum/learned_bins" in document["metrics"] else "-")
         finding = thesis.get("finding", f"desired MAE ~{thesis['desired_mae']}" if "desired_mae" in thesis else "")
-        lines.append(
-            f"{_run_cells(label, s)} | {errors} | {speeds[0]} | {speeds[1]} "
-            f"| {_falls_cell(s, thesis)} | {bins} | {finding} |")
-    return "\n".join(lines) + "\n"
+        return f"{errors} | {speeds[0]} | {speeds[1]} | {_falls_cell(s, thesis)} | {bins} | {finding}"
+
+    return _per_run(experiment, documents, columns, cells)
 
 
 TABLES = {"comparison": comparison_table, "max-velocity": max_velocity_table, "omni": omni_table}

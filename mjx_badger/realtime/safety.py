@@ -3,7 +3,7 @@
 
 import numpy as np
 
-from mjx_badger import robot
+from mjx_badger import kinematics
 from mjx_badger.realtime.interface import Sensors, roll_pitch, rotation_matrix
 from mjx_badger.robot import HB40, RobotSpec
 
@@ -19,7 +19,8 @@ def check(sensors: Sensors, spec: RobotSpec = HB40) -> str | None:
     if abs(pitch) > spec.fall_tilt_rad:
         return f"pitch {pitch:+.2f} rad"
     angle = np.asarray(sensors.joint_angle)
-    lower, upper = (limit.reshape(-1) for limit in robot.joint_limits(spec))
+    limits = kinematics.leg(spec)  # computed once per robot: this runs every control period
+    lower, upper = limits.lower.reshape(-1), limits.upper.reshape(-1)
     outside = (angle < lower - JOINT_MARGIN_RAD) | (angle > upper + JOINT_MARGIN_RAD)
     if outside.any():
         joint = int(np.argmax(outside))
