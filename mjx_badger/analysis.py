@@ -118,10 +118,10 @@ def summarize(document: dict, target: float | None) -> dict:
 
 
 def load_experiment(experiment: Experiment, folder: Path) -> dict:
-    """Results documents of the experiment's runs found in `folder`, keyed by the compared name."""
+    """Results documents of the experiment's runs found in `folder`, keyed by the compared name, diverged seeds left out."""
     found = {}
     for run in experiment.runs:
         path = Path(folder) / result_name(run)
         if path.exists():
-            found[experiment.label(run)] = results.read(path)
+            found[experiment.label(run)] = results.healthy(results.read(path))
     return found

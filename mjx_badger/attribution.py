@@ -108,9 +108,10 @@ def planned(results_dir: Path, swaps: tuple = SWAPS):
 def _figure(path: Path, swap: Swap, measure: str):
     if not path.exists():
         return None
+    document = results.healthy(results.read(path))
     if measure.startswith("eval/"):  # an evaluation metric: its final value, mean over seeds
-        return float(np.nanmean(analysis.final(results.read(path), measure)))
-    return analysis.summarize(results.read(path), EXPERIMENTS[swap.experiment].target_velocity)[measure]
+        return float(np.nanmean(analysis.final(document, measure)))
+    return analysis.summarize(document, EXPERIMENTS[swap.experiment].target_velocity)[measure]
 
 
 def _words(value, measure: str) -> str:

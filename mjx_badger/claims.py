@@ -13,6 +13,7 @@ from typing import Callable
 import numpy as np
 
 from mjx_badger import analysis
+from mjx_badger import results as results_io
 from mjx_badger.experiments import EXPERIMENTS
 
 JT = ("jt-nf", "jt-oef", "jt-lpf")
@@ -29,6 +30,8 @@ class Results:
     def __init__(self, folder: Path):
         self.folder = Path(folder)
         self._loaded = {}
+        self.read = []
+        """(experiment, name) of every document read since the last `check`, to name seeds it left out."""
 
     def documents(self, experiment: str) -> dict:
         if experiment not in self._loaded:
@@ -39,7 +42,14 @@ class Results:
         found = self.documents(experiment).get(name)
         if found is None:
             raise Missing(f"{experiment}/{name}")
+        self.read.append((experiment, name))
         return found
+
+    def left_out(self) -> str:
+        """'' or which seeds of the documents read since the last check were left out for diverging."""
+        notes = {f"{e}/{n} {words}" for e, n in self.read
+                 if (words := results_io.left_out_words(self.documents(e)[n]))}
+        return "; ".join(sorted(notes))
 
     def summary(self, experiment: str, name: str) -> dict:
         return analysis.summarize(self.document(experiment, name), EXPERIMENTS[experiment].target_velocity)
@@ -78,11 +88,13 @@ class Claim:
     """Results -> (our numbers in words, holds)."""
 
     def check(self, results: Results) -> Verdict:
+        results.read = []
         try:
             ours, holds = self.measure(results)
         except Missing as missing:
             return Verdict(self, f"no results ({missing})", None)
-        return Verdict(self, ours, None if holds is None else bool(holds))
+        left_out = results.left_out()
+        return Verdict(self, ours + (f" ({left_out})" if left_out else ""), None if holds is None else bool(holds))
 
 
 def _steps(s: dict) -> str:

@@ -264,6 +264,9 @@ class SavedRun:
         if "policy" not in document:
             raise ValueError(f"{self.results} has no saved policy (complete runs since policies are saved have one)")
         policy.load(self.results.parent / document["policy"], self.seed)  # the seed exists
+        if self.seed in results.diverged(document):
+            raise ValueError(f"seed {self.seed} of {self.results.name} diverged at step "
+                             f"{results.diverged(document)[self.seed]}; its policy is frozen from before, choose another")
         if self.command is not None:
             try:
                 [float(x) for x in self.command.split(",")][2]

@@ -9,6 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from mjx_badger import results  # noqa: E402
 from mjx_badger.actions import APPROACHES  # noqa: E402
 from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_frequency,  # noqa: E402
                                  load_experiment, series, summarize)
@@ -34,8 +35,10 @@ def _x_label(x_axis: str) -> str:
 
 
 def _seeds_note(documents: dict) -> str:
+    """'3 seeds, mean and min/max band', naming any seed left out for diverging (results.healthy)."""
     seeds = sorted({len(d["seeds"]) for d in documents.values()})
-    return f"{'/'.join(map(str, seeds))} seeds, mean and min/max band"
+    gone = [f"{display_name(label)} {words}" for label, d in documents.items() if (words := results.left_out_words(d))]
+    return f"{'/'.join(map(str, seeds))} seeds, mean and min/max band" + "".join(f"; {g}" for g in gone)
 
 
 def curve_panel(ax, documents: dict, metric: str, title: str, ylabel: str, x_axis: str = "steps",
@@ -74,7 +77,7 @@ def learning_curves(experiment: Experiment, documents: dict, out: Path, profile:
 
 
 def gait_figure(experiment: Experiment, documents: dict, out: Path, profile: str, target: float | None) -> Path:
-    """Figs 5.4/5.5 (5.7/5.8): one second of foot contacts and of forward velocity after training, seed 0."""
+    """Figs 5.4/5.5 (5.7/5.8): one second of foot contacts and of forward velocity after training, first kept seed."""
     documents = {k: d for k, d in documents.items() if d.get("gait")}
     fig, axes = plt.subplots(len(documents), 2, figsize=(12, 1.5 * len(documents) + 1), squeeze=False,
                              constrained_layout=True, gridspec_kw={"width_ratios": [1.3, 1]})
@@ -103,7 +106,8 @@ def gait_figure(experiment: Experiment, documents: dict, out: Path, profile: str
     axes[-1, 0].set_xlabel("time [s] (stance shaded)")
     axes[-1, 1].set_xlabel("time [s]" + ("" if target is None else f" (below {target} m/s shaded red)"))
     fig.suptitle(f"{experiment.name}: gait and forward velocity over one second after training, deterministic "
-                 f"policy, seed 0 ({profile}); thesis {experiment.thesis_figure}", fontsize=10)
+                 f"policy, first kept seed ({profile}; {_seeds_note(documents)}); thesis {experiment.thesis_figure}",
+                 fontsize=10)
     return _save(fig, out)
 
 
@@ -182,7 +186,8 @@ def pdec_versus_random_figure(pdec: dict, random: dict, out: Path, profile: str)
         curve_panel(ax, {k: v for k, v in random.items() if k in pdec}, metric, label, label,
                     style={"ls": "--", "label": None})
     axes[0].legend(fontsize=8, title="solid PDEC, dashed random", title_fontsize=8)
-    fig.suptitle(f"Curriculum (PDEC) vs random commands, evaluation over 8 runs ({profile}); "
+    fig.suptitle(f"Curriculum (PDEC) vs random commands, evaluation over 8 runs ({profile}; "
+                 f"{_seeds_note({**{'random ' + k: v for k, v in random.items()}, **pdec})}); "
                  "thesis Fig 5.12: the curriculum improves every CPG approach, desired MAE ~0.05 m/s", fontsize=10)
     return _save(fig, out)
 
@@ -247,7 +252,9 @@ def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
     falls_ax.set_title("falls during training, mean over seeds", fontsize=10)
     falls_ax.legend(fontsize=7)
     falls_ax.grid(alpha=0.3, axis="y")
-    fig.suptitle(f"mjx_badger: every thesis simulation experiment at a glance ({profile})", fontsize=12)
+    every = {f"{name} {label}": d for name, documents in loaded.items() if documents for label, d in documents.items()}
+    fig.suptitle(f"mjx_badger: every thesis simulation experiment at a glance ({profile}; {_seeds_note(every)})",
+                 fontsize=12)
     return _save(fig, out)
 
 

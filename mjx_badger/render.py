@@ -62,8 +62,8 @@ def best(folder: Path) -> tuple[Path, int, float] | None:
 
     found = None
     for path in sorted(Path(folder).glob("*.json")):
-        document = results.read(path)
-        if not document.get("complete") or "policy" not in document or not (path.parent / document["policy"]).exists():
+        document = results.healthy(results.read(path))
+        if not document.get("complete") or not document["seeds"] or "policy" not in document or not (path.parent / document["policy"]).exists():
             continue
         returns = analysis.final(document, "eval/return")
         index = int(np.nanargmax(returns))

@@ -16,6 +16,9 @@ Schema `mjx_badger.results/1`:
                   cumulative: train/falls as the protocol counts them, train/falls_total every
                   termination, train/would_falls the times the termination rule started firing
                   (CPG under thesis-code never terminates), train/blowups non-finite physics states
+    diverged_at_step  per seed: null, or the step at whose chunk end its agent or metrics went
+                  non-finite; the seed was frozen there (its metrics are null from then) while the
+                  others went on, and figures, tables and claims leave it out (`healthy`)
     policy        after the last chunk: the file name of every seed's final actor (policy.py's format)
     agents        after the last chunk: the folder of every seed's whole final agent, critic and
                   optimiser states included (checkpoints.save_agents / load_agents)
@@ -148,6 +151,36 @@ def upgrade(document: dict) -> dict:
             metrics[f"eval/{name}"] = [[None if None in seeds else sum(seeds) / len(seeds) for seeds in zip(*rows)]
                                        for rows in zip(*per_run)]
     return document
+
+
+def diverged(document: dict) -> dict:
+    """{seed: step it diverged at} of the seeds frozen for non-finite numbers (train.py)."""
+    steps = document.get("diverged_at_step") or []
+    return {seed: step for seed, step in zip(document.get("seeds", []), steps) if step is not None}
+
+
+def healthy(document: dict) -> dict:
+    """The document without its diverged seeds, which `left_out` then names; unchanged if none diverged."""
+    gone = diverged(document)
+    if not gone:
+        return document
+    keep = [i for i, seed in enumerate(document["seeds"]) if seed not in gone]
+    pick = lambda rows: [[row[i] for i in keep] for row in rows]
+    kept = dict(document, seeds=[document["seeds"][i] for i in keep],
+                diverged_at_step=[None] * len(keep),
+                metrics={name: pick(rows) for name, rows in document["metrics"].items()},
+                left_out=[{"seed": seed, "diverged_at_step": step} for seed, step in gone.items()])
+    if document.get("gait"):
+        gait = document["gait"]
+        kept["gait"] = dict(gait, contacts=[gait["contacts"][i] for i in keep],
+                            forward_velocity=[gait["forward_velocity"][i] for i in keep])
+    return kept
+
+
+def left_out_words(document: dict) -> str:
+    """'' or e.g. 'seed 2 left out: diverged at step 12000' for a document `healthy` has trimmed."""
+    gone = document.get("left_out") or []
+    return "; ".join(f"seed {g['seed']} left out: diverged at step {g['diverged_at_step']}" for g in gone)
 
 
 def wall_time(folder: Path) -> dict:

@@ -89,6 +89,7 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
         for name, values in metrics.items():
             document["metrics"].setdefault(name, []).append(np.asarray(values, dtype=float).round(5).tolist())
         document["complete"] = index == config.num_chunks - 1
+        note_divergence(document, jax.device_get(carry.diverged_at), out_path)
         document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2), checkpoint_s=round(save_s, 2),
                                       seed_steps_per_s=round(steps * len(seeds) / run_s, 1))
         document["hardware"] = results.hardware()
@@ -140,18 +141,30 @@ def _truncated(document: dict, chunks: int) -> dict:
     return document
 
 
+def note_divergence(document: dict, diverged_at, out_path: Path) -> None:
+    """Record each seed's `diverged_at_step` (train.py freezes such a seed) and say so once when one diverges."""
+    steps = [None if step < 0 else int(step) for step in np.asarray(diverged_at).reshape(-1)]
+    before = document.get("diverged_at_step") or [None] * len(steps)
+    for seed, old, new in zip(document["seeds"], before, steps):
+        if old is None and new is not None:
+            tqdm.write(f"{out_path.name}: seed {seed} went non-finite by step {new}; frozen there, the others go on",
+                       file=sys.stderr)
+    document["diverged_at_step"] = steps
+
+
 def progress_figures(metrics: dict) -> dict:
-    """Seed means shown beside the progress bar: velocity along the command, evaluation, falls."""
-    shown = {"v": np.mean(metrics["train/desired_velocity"])}
+    """Seed means shown beside the progress bar (frozen seeds left out): velocity along the command, evaluation, falls."""
+    mean = lambda name: np.nanmean(metrics[name]) if np.any(np.isfinite(metrics[name])) else np.nan
+    shown = {"v": mean("train/desired_velocity")}
     if any(name.startswith("eval/forward_full/") for name in metrics):  # the omni tasks' eight runs
-        shown["eval_mae"] = np.mean(metrics["eval/desired_mae"])
+        shown["eval_mae"] = mean("eval/desired_mae")
     else:
-        shown["eval_v"] = np.mean(metrics["eval/desired_velocity"])
+        shown["eval_v"] = mean("eval/desired_velocity")
     if "curriculum/learned_bins" in metrics:
-        shown["bins"] = np.mean(metrics["curriculum/learned_bins"])
-    shown["falls"] = np.mean(metrics["train/falls"])
-    if np.any(np.asarray(metrics.get("train/blowups", 0)) > 0):
-        shown["blowups"] = np.mean(metrics["train/blowups"])
+        shown["bins"] = mean("curriculum/learned_bins")
+    shown["falls"] = mean("train/falls")
+    if np.nansum(np.asarray(metrics.get("train/blowups", 0))) > 0:
+        shown["blowups"] = mean("train/blowups")
     return {k: f"{v:.2f}" for k, v in shown.items()}
 
 

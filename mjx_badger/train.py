@@ -82,6 +82,8 @@ class Carry(struct.PyTreeNode):
     episode_return: jnp.ndarray
     falls: jnp.ndarray
     """Falls as the protocol counts them (thesis-code: only once learning has started)."""
+    diverged_at: jnp.ndarray
+    """-1, or the step at whose chunk end the agent or its metrics went non-finite; from then the seed is frozen."""
 
 
 class Trainer(NamedTuple):
@@ -115,6 +117,7 @@ def make_train(config: TrainConfig) -> Trainer:
             eval_key=eval_key,
             episode_return=jnp.float32(0.0),
             falls=jnp.int32(0),
+            diverged_at=jnp.int32(-1),
         )
 
     def learn(agent_state, buffer, key, step):
@@ -177,7 +180,22 @@ def make_train(config: TrainConfig) -> Trainer:
     evaluate, gait_record = evaluation.make_evaluation(env, act, config.eval_steps, config.gait_seconds)
 
     def chunk(carry: Carry, start_step):
-        """`chunk_steps` environment steps with learning, then one evaluation; metrics are per seed."""
+        """`chunk_steps` environment steps with learning, then one evaluation; metrics are per seed.
+
+        A seed whose agent or metrics go non-finite keeps the carry it had before the chunk
+        from then on (its metrics are NaN), so one diverging seed does not sink the others.
+        """
+        before = carry
+        carry, metrics = run_chunk(carry, start_step)
+        frozen = (before.diverged_at >= 0) | ~_finite(carry.agent_state, metrics)
+        carry = jax.tree.map(lambda old, new: jnp.where(frozen, old, new), before, carry)
+        carry = carry.replace(diverged_at=jnp.where(
+            before.diverged_at >= 0, before.diverged_at,
+            jnp.where(frozen, start_step + config.chunk_steps, -1)).astype(jnp.int32))
+        metrics = {k: jnp.where(frozen, jnp.nan, v) for k, v in metrics.items()}
+        return carry, metrics
+
+    def run_chunk(carry: Carry, start_step):
         carry, steps = jax.lax.scan(env_step, carry, start_step + jnp.arange(config.chunk_steps))
         episodes = jnp.sum(steps["episode_end"])
         # nanmean: the step of a physics blow-up (train/blowups) has no motion to average.
@@ -209,3 +227,10 @@ def make_train(config: TrainConfig) -> Trainer:
         return gait_record(carry.agent_state, carry.eval_key)
 
     return Trainer(config=config, env=env, init=init, chunk=chunk, train=train, gait=gait)
+
+
+def _finite(agent_state, metrics: dict) -> jnp.ndarray:
+    """True while every float of the agent is finite and no metric is infinite (NaN metrics can be honest: no episode ended)."""
+    leaves = [x for x in jax.tree.leaves(agent_state) if jnp.issubdtype(x.dtype, jnp.inexact)]
+    finite = jnp.all(jnp.stack([jnp.all(jnp.isfinite(x)) for x in leaves]))
+    return finite & ~jnp.any(jnp.stack([jnp.any(jnp.isinf(v)) for v in metrics.values()]))

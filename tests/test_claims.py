@@ -74,3 +74,20 @@ def test_crossq_first_is_undecided_while_a_shorter_run_might_have_beaten_it(tmp_
     _write(folder, "algo-comparison", "droq", _document(0.3, 4.0, chunks=6))  # 2.4 min without reaching
     board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}
     assert board["crossq-first"].holds is True
+
+
+def test_a_diverged_seed_is_left_out_of_the_claims_and_named(tmp_path):
+    """Seed 1 of JT-NF diverged with 99 falls: the claim reads seed 0's 13 alone and says seed 1 was left out."""
+    folder = tmp_path / "quick" / "thesis-code"
+    diverged = _document(0.55, 13.0)
+    diverged["metrics"]["train/falls"] = [[f, 99.0] for f, _ in diverged["metrics"]["train/falls"]]
+    diverged["diverged_at_step"] = [None, 6000]
+    _write(folder, "forward", "jt-nf", diverged)
+    for name, falls in (("jt-oef", 7.0), ("jt-lpf", 6.0)):
+        _write(folder, "forward", name, _document(0.55, falls))
+    verdict = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}["jt-falls"]
+    assert verdict.holds is True and "JT-NF 13.0" in verdict.ours
+    assert "forward/jt-nf seed 1 left out: diverged at step 6000" in verdict.ours
+    kept = results.healthy(diverged)
+    assert kept["seeds"] == [0] and kept["metrics"]["train/falls"][-1] == [13.0]
+    assert results.healthy(_document(0.5, 1.0))["seeds"] == [0, 1]  # nothing diverged: unchanged

@@ -6,6 +6,7 @@ import subprocess
 import sys
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 
 from conftest import TINY_TRAIN, seed_keys
@@ -72,7 +73,7 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     runner.run(TINY_TRAIN, [0, 1], path, progress=False)
     document = results.read(path)
     assert document["complete"] and document["seeds"] == [0, 1]
-    assert document["steps"] == [100, 200, 300]
+    assert document["steps"] == [100, 200, 300] and document["diverged_at_step"] == [None, None]
     # thesis-code: JT at 50 Hz
     np.testing.assert_allclose(document["sim_minutes"], [100 / 50 / 60, 200 / 50 / 60, 300 / 50 / 60], atol=1e-4)
     assert document["config"]["agent"]["learning_rate"] == 0.005
@@ -204,3 +205,33 @@ def test_results_of_the_older_evaluation_schema_are_read_into_todays():
     assert upgraded[0]["eval/desired_velocity"] == [[0.1, 0.3]] and "eval/forward_velocity" not in upgraded[0]
     np.testing.assert_allclose(np.array(upgraded[1]["eval/desired_velocity"][0][:1]), [0.3])
     assert upgraded[1]["eval/desired_velocity"][0][1] is None  # a missing run leaves the mean undefined
+
+
+def test_a_diverging_seed_is_frozen_and_marked_while_the_others_go_on(train_fns):
+    """A NaN put into seed 1's actor freezes seed 1 at its carry from before the chunk; seed 0 trains on."""
+    init, chunk, _ = train_fns
+    carry = init(seed_keys([0, 1]))
+    poison = lambda x: x.at[1].set(jnp.nan) if jnp.issubdtype(x.dtype, jnp.floating) else x
+    carry = carry.replace(agent_state=carry.agent_state.replace(
+        actor_params=jax.tree.map(poison, carry.agent_state.actor_params)))
+    before = jax.device_get(carry)
+    history = []
+    for index in range(TINY_TRAIN.num_chunks):
+        carry, metrics = chunk(carry, index * TINY_TRAIN.chunk_steps)
+        history.append(jax.device_get(metrics))
+    np.testing.assert_array_equal(carry.diverged_at, [-1, TINY_TRAIN.chunk_steps])
+    after = jax.device_get(carry)
+    jax.tree.map(lambda old, new: np.testing.assert_array_equal(old[1], new[1]),
+                 before.replace(diverged_at=after.diverged_at), after)
+    assert int(after.buffer.size[0]) == TINY_TRAIN.total_steps and int(after.buffer.size[1]) == 0
+    for metrics in history:
+        assert np.isnan(metrics["train/forward_velocity"][1]) and np.isfinite(metrics["train/forward_velocity"][0])
+    assert np.isfinite(history[-1]["train/critic_loss"][0])
+
+
+def test_the_runner_records_and_announces_a_seed_that_diverges(tmp_path, capsys):
+    document = {"seeds": [3, 4], "diverged_at_step": [None, None]}
+    runner.note_divergence(document, np.array([-1, 2000]), tmp_path / "run.json")
+    runner.note_divergence(document, np.array([-1, 2000]), tmp_path / "run.json")
+    assert document["diverged_at_step"] == [None, 2000]
+    assert capsys.readouterr().err.count("run.json: seed 4 went non-finite by step 2000") == 1

@@ -31,6 +31,8 @@ def check(config) -> None:
         raise ValueError(f"--init-from {path.name}: no saved agents beside it (runs keep them since they are saved)")
     if config.init_seed not in document["seeds"]:
         raise ValueError(f"--init-from {path.name} holds seeds {document['seeds']}, not {config.init_seed}")
+    if config.init_seed in results.diverged(document):
+        raise ValueError(f"--init-from {path.name}: seed {config.init_seed} diverged in training; choose another")
 
 
 def load(config, agent):
