@@ -11,13 +11,24 @@ import json
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
 from mjx_badger import results, runner
+
+
+def largest_difference(old_rows, new_rows) -> float:
+    """The largest absolute difference between two metrics' [chunk][seed] rows (null as NaN; NaN where only one is)."""
+    a, b = (np.array(rows, dtype=float) for rows in (old_rows, new_rows))
+    if a.shape != b.shape or np.any(np.isnan(a) != np.isnan(b)):
+        return float("nan")
+    return float(np.nanmax(np.abs(a - b), initial=0.0))
 
 
 def compare(old: dict, new: dict) -> dict:
     shared = set(old["metrics"]) & set(new["metrics"])
     return {"metrics_shared": len(shared),
-            "metrics_differing": sorted(k for k in shared if old["metrics"][k] != new["metrics"][k]),
+            "metrics_differing": {k: largest_difference(old["metrics"][k], new["metrics"][k])
+                                  for k in sorted(shared) if old["metrics"][k] != new["metrics"][k]},
             "metrics_in_one_only": sorted(set(old["metrics"]) ^ set(new["metrics"])),
             "gait_identical": old.get("gait") == new.get("gait"), "steps_identical": old["steps"] == new["steps"],
             "old_commit": old.get("git_commit"), "new_commit": new.get("git_commit")}
@@ -29,8 +40,10 @@ def main():
     args = parser.parse_args()
     old = results.read(args.results_file)
     with tempfile.TemporaryDirectory() as folder:
-        new = runner.run(results.train_config(old), old["seeds"], Path(folder) / args.results_file.name, progress=True)
-    print(json.dumps(compare(old, results.upgrade(new)), indent=1))
+        path = Path(folder) / args.results_file.name
+        runner.run(results.train_config(old), old["seeds"], path, progress=True)
+        new = results.read(path)  # as written: JSON's null where the run had NaN, like the old file
+    print(json.dumps(compare(old, new), indent=1))
 
 
 if __name__ == "__main__":
