@@ -21,7 +21,7 @@ class RealtimeConfig(RunSpec):
     steps: int = 20_000
     """Control steps, warm-up included."""
     warmup_steps: int = 1_000
-    """Uniform random actions before learning starts."""
+    """Steps before learning starts: uniform random actions, or with `init_from` the pretrained policy's own."""
     control_hz: float | None = None
     """None: the algorithm's rate (Table 4.3: 40 Hz CrossQ, 20 Hz the others)."""
     episode_seconds: float = 20.0

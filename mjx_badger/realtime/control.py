@@ -177,8 +177,11 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
         sensors = bot.read()
         velocity = session.estimator.update(sensors, period, stance if config.planned_contacts else None)
         key, step_key = jax.random.split(key)
+        # A pretrained agent acts with its own policy in the warm-up too: random actions would only
+        # knock over a robot that can already walk, and the warm-up is there to fill the buffer.
+        explore = progress.step < config.warmup_steps and config.init_from is None
         out = session.tick(session.learner.state, action_state, task_state, command,
-                           measure(sensors, prev_gyro, velocity), step_key, progress.step < config.warmup_steps)
+                           measure(sensors, prev_gyro, velocity), step_key, explore)
         obs, reward, task_state, action, next_action_state, target, stance_out = out
         trip = safety.check(sensors, session.env.spec)
         stepping = previous is not None
