@@ -86,7 +86,8 @@ def figure(document: dict, out: Path) -> Path:
         ax.axhline(t, color="k", ls="--", lw=0.8)
     ax.set_xlabel("training minutes on the simulated robot (resets excluded)")
     ax.set_ylabel("true forward velocity, 1 s means [m/s]")
-    ax.set_title(f"On-robot learning from scratch vs from an MJX-trained agent ({document['setup']})", fontsize=9)
+    ax.set_title(f"On-robot learning from scratch vs from an MJX-trained agent, simulated HB40\n{document['setup']}",
+                 fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.savefig(out, dpi=110)
