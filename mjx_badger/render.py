@@ -1,16 +1,27 @@
 """Videos of a policy: native MuJoCo rendered offscreen (EGL or OSMesa) by `mujoco.Renderer`, as a GIF.
 
-The camera follows the trunk from the front left, a little above it. MP4 needs an ffmpeg
+The camera follows the trunk from its left, a little ahead and above, over a checkered floor
+(a render-only twin of the run's model: same bodies, a floor texture and a sky added, so the
+physics the policy runs on is the run's own). MP4 needs an ffmpeg
 binary, which this suite does not install; a GIF needs only Pillow (matplotlib's).
 """
 
+import re
 from pathlib import Path
 from typing import Callable
 
 import mujoco
 import numpy as np
 
-from mjx_badger import native
+from mjx_badger import native, robot
+
+SCENERY = """<asset>
+    <texture name="grid" type="2d" builtin="checker" rgb1="0.78 0.8 0.82" rgb2="0.62 0.65 0.68" width="256" height="256"/>
+    <material name="grid" texture="grid" texuniform="true" texrepeat="4 4" reflectance="0"/>
+    <texture type="skybox" builtin="gradient" rgb1="0.55 0.7 0.88" rgb2="0.95 0.96 1" width="256" height="256"/>
+  </asset>
+  <worldbody>"""
+"""A checkered floor (0.25 m squares, so speed can be read off the video) and a sky, for videos only."""
 
 GL_HELP = ("offscreen rendering needs an OpenGL backend without a display: install EGL (apt install libegl1) "
            "or OSMesa (apt install libosmesa6) and set MUJOCO_GL=egl or MUJOCO_GL=osmesa")
@@ -24,6 +35,15 @@ def check_gl(model: mujoco.MjModel) -> None:
         raise RuntimeError(f"{GL_HELP} ({error})") from None
 
 
+def scenery_model(env) -> mujoco.MjModel:
+    """The env's model with SCENERY: the same bodies and joints, so the env's MjData renders in it."""
+    xml = robot.mjcf(env.spec, env.action_space.split_pd).replace("<worldbody>", SCENERY, 1)
+    line = next((l for l in xml.splitlines() if '<geom name="floor"' in l), None)
+    assert line is not None, "the floor geom's declaration changed; update render.scenery_model"
+    textured = re.sub(r'\s*rgba="[^"]*"', "", line).replace("/>", ' material="grid"/>')
+    return mujoco.MjModel.from_xml_string(xml.replace(line, textured, 1))
+
+
 def record(env, act: Callable, command, seconds: float, out: Path, fps: float = 25.0,
            size: tuple = (480, 360)) -> dict:
     """Run `act` on native MuJoCo for `seconds` and write the frames to `out` (.gif); returns the evaluation."""
@@ -31,9 +51,9 @@ def record(env, act: Callable, command, seconds: float, out: Path, fps: float = 
     if out.suffix.lower() != ".gif":
         raise ValueError(f"{out.name}: videos are written as .gif (an .mp4 needs ffmpeg, which is not installed)")
     width, height = size
-    renderer = mujoco.Renderer(env.mj_model, height, width)
+    renderer = mujoco.Renderer(scenery_model(env), height, width)
     camera = mujoco.MjvCamera()
-    camera.distance, camera.elevation, camera.azimuth = 1.4, -20.0, 135.0
+    camera.distance, camera.elevation, camera.azimuth = 1.3, -15.0, 110.0
     every = max(1, int(round(env.control_hz / fps)))
     frames, count = [], [0]
     trunk = env.mj_model.body("trunk").id
@@ -50,8 +70,11 @@ def record(env, act: Callable, command, seconds: float, out: Path, fps: float = 
     from PIL import Image
 
     out.parent.mkdir(parents=True, exist_ok=True)
-    images = [Image.fromarray(np.asarray(frame)) for frame in frames]
+    # One 64-colour palette for every frame: about half the size of per-frame palettes, and no flicker.
+    palette = Image.fromarray(np.asarray(frames[len(frames) // 2])).quantize(colors=64)
+    images = [Image.fromarray(np.asarray(frame)).quantize(palette=palette, dither=Image.Dither.NONE) for frame in frames]
     images[0].save(out, save_all=True, append_images=images[1:], duration=int(round(1000 * every / env.control_hz)),
+                   optimize=True,
                    loop=0)
     return dict(report, frames=len(frames), video=str(out))
 
