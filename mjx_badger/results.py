@@ -185,7 +185,9 @@ def left_out_words(document: dict) -> str:
 
 def wall_time(folder: Path) -> dict:
     """Compile and run seconds summed over the complete results files under `folder`."""
-    documents = [read(path) for path in sorted(Path(folder).glob("**/*.json"))]
+    # Not the run.json stamps inside a running or interrupted run's checkpoint folder.
+    documents = [read(path) for path in sorted(Path(folder).glob("**/*.json"))
+                 if not any(part.endswith((".ckpt", ".agents")) for part in path.parent.parts)]
     clocks = [d.get("wall_clock", {}) for d in documents if d.get("complete")]
     return {"runs": len(clocks), "compile_s": sum(c.get("compile_s", 0.0) for c in clocks),
             "run_s": sum(c.get("run_s", 0.0) for c in clocks)}

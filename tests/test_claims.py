@@ -91,3 +91,13 @@ def test_a_diverged_seed_is_left_out_of_the_claims_and_named(tmp_path):
     kept = results.healthy(diverged)
     assert kept["seeds"] == [0] and kept["metrics"]["train/falls"][-1] == [13.0]
     assert results.healthy(_document(0.5, 1.0))["seeds"] == [0, 1]  # nothing diverged: unchanged
+
+
+def test_wall_time_passes_over_the_checkpoints_of_a_running_run(tmp_path):
+    folder = tmp_path / "quick" / "thesis-code"
+    document = dict(_document(0.5, 1.0), wall_clock={"compile_s": 60.0, "run_s": 3540.0})
+    _write(folder, "forward", "jt-nf", document)
+    stamp = folder / "forward" / "jt-oef_crossq_forward.ckpt" / "run.json"
+    stamp.parent.mkdir(parents=True)
+    stamp.write_text('{"config": {}, "seeds": [0]}')
+    assert results.wall_time_words(folder) == "1 run in 1.00 h (compile 1.0 min of it)"
