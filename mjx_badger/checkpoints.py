@@ -65,6 +65,10 @@ class Checkpoints:
             self.remove()
             self.path.mkdir(parents=True)
             (self.path / "run.json").write_text(json.dumps(self.identity))
+        # Steps at or past this one are from a run that could not be resumed from them (unreadable,
+        # or written by code whose carry differs): they go, or orbax refuses the step or keeps them as newest.
+        for stale in [step for step in self.manager.all_steps() if step >= chunks_done]:
+            self.manager.delete(stale)
         self.manager.save(chunks_done, args=ocp.args.StandardSave(_sized(jax.tree.leaves(carry))), force=True)
         self.manager.wait_until_finished()
 

@@ -45,6 +45,22 @@ def test_the_newest_readable_checkpoint_is_restored_bit_for_bit(tmp_path):
     assert not saved.path.exists()
 
 
+def test_checkpoints_another_carry_wrote_are_replaced_when_the_run_starts_over(tmp_path):
+    """Code whose carry has another leaf cannot resume from them: the run starts over and saves over them."""
+    identity = {"config": {"a": 1}, "seeds": [0]}
+    old = checkpoints.Checkpoints(tmp_path / "run.json", identity)
+    old.save(1, _carry(1.0))
+    old.save(3, _carry(3.0))
+    grown = lambda scale: dict(_carry(scale), frozen=jnp.int32(-1))
+    new = checkpoints.Checkpoints(tmp_path / "run.json", identity)
+    with pytest.warns(UserWarning, match="cannot be read"):
+        assert new.restore(grown(0.0)) is None
+    new.save(1, grown(5.0))  # orbax used to refuse: step 1 already existed
+    assert new.manager.all_steps() == [1]
+    step, carry = new.restore(grown(0.0))
+    assert step == 1 and np.array_equal(carry["weights"], np.arange(6.0) * 5.0)
+
+
 def test_final_agents_are_saved_and_loaded_bit_for_bit(tmp_path):
     agents = {"actor": jnp.arange(8.0).reshape(2, 4), "empty": jnp.zeros((2, 0)), "updates": jnp.array([5, 6])}
     checkpoints.save_agents(tmp_path / "run.json", agents)
