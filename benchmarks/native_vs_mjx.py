@@ -20,7 +20,7 @@ COMPARED = ("velocity_along_command", "velocity_across_command", "yaw_rate", "fa
 
 
 def compare(path: Path, seconds: float) -> list[dict]:
-    document = results.healthy(results.read(path))
+    document = results.read(path, leave_out_diverged=True)
     env = native.evaluation_env(results.train_config(document), seconds)
     command = list(next(iter(env.task.eval_commands.values())))
     rows = []

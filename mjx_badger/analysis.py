@@ -123,5 +123,5 @@ def load_experiment(experiment: Experiment, folder: Path) -> dict:
     for run in experiment.runs:
         path = Path(folder) / result_name(run)
         if path.exists():
-            found[experiment.label(run)] = results.healthy(results.read(path))
+            found[experiment.label(run)] = results.read(path, leave_out_diverged=True)
     return found

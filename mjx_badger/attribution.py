@@ -108,7 +108,7 @@ def planned(results_dir: Path, swaps: tuple = SWAPS):
 def _figure(path: Path, swap: Swap, measure: str):
     if not path.exists():
         return None
-    document = results.healthy(results.read(path))
+    document = results.read(path, leave_out_diverged=True)
     if measure.startswith("eval/"):  # an evaluation metric: its final value, mean over seeds
         return float(np.nanmean(analysis.final(document, measure)))
     return analysis.summarize(document, EXPERIMENTS[swap.experiment].target_velocity)[measure]

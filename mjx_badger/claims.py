@@ -30,8 +30,8 @@ class Results:
     def __init__(self, folder: Path):
         self.folder = Path(folder)
         self._loaded = {}
-        self.read = []
-        """(experiment, name) of every document read since the last `check`, to name seeds it left out."""
+        self.used = []
+        """(experiment, name) of every document a claim read since its check began, to name seeds left out."""
 
     def documents(self, experiment: str) -> dict:
         if experiment not in self._loaded:
@@ -42,12 +42,12 @@ class Results:
         found = self.documents(experiment).get(name)
         if found is None:
             raise Missing(f"{experiment}/{name}")
-        self.read.append((experiment, name))
+        self.used.append((experiment, name))
         return found
 
     def left_out(self) -> str:
         """'' or which seeds of the documents read since the last check were left out for diverging."""
-        notes = {f"{e}/{n} {words}" for e, n in self.read
+        notes = {f"{e}/{n} {words}" for e, n in self.used
                  if (words := results_io.left_out_words(self.documents(e)[n]))}
         return "; ".join(sorted(notes))
 
@@ -88,7 +88,7 @@ class Claim:
     """Results -> (our numbers in words, holds)."""
 
     def check(self, results: Results) -> Verdict:
-        results.read = []
+        results.used.clear()
         try:
             ours, holds = self.measure(results)
         except Missing as missing:

@@ -85,7 +85,7 @@ def best(folder: Path) -> tuple[Path, int, float] | None:
 
     found = None
     for path in sorted(Path(folder).glob("*.json")):
-        document = results.healthy(results.read(path))
+        document = results.read(path, leave_out_diverged=True)
         if not document.get("complete") or not document["seeds"] or "policy" not in document or not (path.parent / document["policy"]).exists():
             continue
         returns = analysis.final(document, "eval/return")

@@ -132,11 +132,13 @@ def write(path: Path, document: dict) -> None:
     os.replace(tmp, path)
 
 
-def read(path: Path) -> dict:
+def read(path: Path, leave_out_diverged: bool = False) -> dict:
+    """The results document at `path` in today's schema, its diverged seeds left out if asked (`healthy`)."""
     document = json.loads(Path(path).read_text())
     if document.get("schema") != SCHEMA:
         raise ValueError(f"{path}: not a {SCHEMA} results file")
-    return upgrade(document)
+    document = upgrade(document)
+    return healthy(document) if leave_out_diverged else document
 
 
 def upgrade(document: dict) -> dict:
