@@ -1,8 +1,8 @@
 """HB40 locomotion environment on MJX: pure `reset(key)` / `step(state, action)`.
 
 Follows brax's `Env` / `State` conventions (state.pipeline_state is the `mjx.Data`,
-`state.info` a dict of per-episode variables), so brax's own wrappers and trainers can
-drive it. The environment knows nothing of agents: it sees only actions and returns
+`state.info` a dict of per-episode variables). brax's own trainers drive it through
+`brax_compat.wrap` (the env ends and resets its own episodes; brax_compat says why). The environment knows nothing of agents: it sees only actions and returns
 observations. Everything on which the thesis's code and text differ comes from the
 protocol in `EnvConfig` (protocols.py).
 
@@ -211,7 +211,8 @@ class HB40Env(Env):
         done = terminated | truncated
 
         along, lateral = rewards.along_and_lateral(motion.linear_velocity[:2], command[:2])
-        metrics = {f"reward/{name}": value for name, value in contributions.items()}
+        # Keys a wrapper added (brax's evaluator adds `reward`) are kept: a scan's carry keeps its structure.
+        metrics = dict(state.metrics, **{f"reward/{name}": value for name, value in contributions.items()})
         metrics.update(
             forward_velocity=motion.linear_velocity[0],
             lateral_velocity=motion.linear_velocity[1],
