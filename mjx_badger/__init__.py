@@ -4,7 +4,6 @@ import os
 from pathlib import Path
 
 
-
 def _choose_offscreen_gl() -> None:
     """MUJOCO_GL for videos without a display, set before MuJoCo is first imported (it reads it then).
 
@@ -22,6 +21,19 @@ def _choose_offscreen_gl() -> None:
 
 
 _choose_offscreen_gl()
+
+GYM_ENV_ID = "mjx_badger/HB40-v0"
+
+
+def _register_gymnasium() -> None:
+    """`gymnasium.make(GYM_ENV_ID, ...)` builds gym_env.HB40GymEnv; the module loads only then."""
+    import gymnasium
+
+    if GYM_ENV_ID not in gymnasium.registry:
+        gymnasium.register(id=GYM_ENV_ID, entry_point="mjx_badger.gym_env:HB40GymEnv")
+
+
+_register_gymnasium()
 
 
 def enable_compilation_cache(path: str | os.PathLike | None = None) -> Path:

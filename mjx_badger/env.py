@@ -144,10 +144,12 @@ class HB40Env(Env):
     def backend(self) -> str:
         return "mjx"
 
-    def reset(self, rng: jax.Array, command: jax.Array | None = None) -> State:
-        """A new episode: robot above its nominal pose at the home height, a command from the task (or `command`)."""
+    def reset(self, rng: jax.Array, command: jax.Array | None = None, task_state=None) -> State:
+        """A new episode: robot above its nominal pose at the home height, a command from the task (or `command`).
+
+        `task_state` carries a curriculum over from earlier episodes (native.py's resets); None starts it afresh."""
         key, command_key = jax.random.split(rng)
-        task_state, drawn = self.task.command(self.task.init(), command_key)
+        task_state, drawn = self.task.command(self.task.init() if task_state is None else task_state, command_key)
         command = drawn if command is None else jnp.asarray(command, dtype=jnp.float32)
         data, obs, episode = self._fresh_episode(command)
         info = {
@@ -172,19 +174,15 @@ class HB40Env(Env):
 
     def traced_step(self, state: State, action: jax.Array):
         """`step`, also returning the physics-rate trace: foot contacts (substeps, 4), forward velocity (substeps,)."""
-        info = state.info
-        key, delay_key, reset_key = jax.random.split(info["rng"], 3)
-        action_state, target = self.action_space.step(info["action_state"], action)
-        delay_steps = self._delay_steps(delay_key)
-        previous_target = info["target"]
+        keys, action_state, target, delay_steps = self.begin_step(state.info, action)
+        previous_target = state.info["target"]
         clip = self.protocol.joint_velocity_clip
 
         def physics_step(carry, i):
             data, _ = carry
             # The new target reaches the motors only after the sampled delay (Table 5.1).
             ctrl = jnp.where(i < delay_steps, previous_target, target)
-            # The PD torque before the motor limit: what the released code's power rule and energy term see.
-            torque = self._kp * (ctrl[:12] - data.qpos[7:]) - self._kd * data.qvel[6:]
+            torque = self.pd_torque(ctrl, data.qpos, data.qvel)
             data = mjx.step(self.mjx_model, data.replace(ctrl=ctrl))
             if clip is not None:
                 data = data.replace(qvel=data.qvel.at[6:].set(jnp.clip(data.qvel[6:], -clip, clip)))
@@ -192,6 +190,25 @@ class HB40Env(Env):
 
         (data, torque), trace = jax.lax.scan(physics_step, (state.pipeline_state, jnp.zeros(12)),
                                              jnp.arange(self.substeps))
+        state = self.end_step(state, data, action_state, target, torque, keys[0])
+        return self._auto_reset(state, keys[1]), trace
+
+    def begin_step(self, info: dict, action: jax.Array):
+        """A control step before its physics: (next key, reset key), the action pipeline's state and new
+        target, and the physics steps the target waits (the action delay). Native MuJoCo shares it."""
+        key, delay_key, reset_key = jax.random.split(info["rng"], 3)
+        action_state, target = self.action_space.step(info["action_state"], action)
+        return (key, reset_key), action_state, target, self._delay_steps(delay_key)
+
+    def pd_torque(self, ctrl, qpos, qvel):
+        """The PD torque before the motor limit: what the released code's power rule and energy term see."""
+        return self._kp * (ctrl[:12] - qpos[7:]) - self._kd * qvel[6:]
+
+    def end_step(self, state: State, data, action_state, target, torque, key: jax.Array) -> State:
+        """A control step after its physics, before any reset: observe, score, count and end episodes.
+
+        `data` is the mjx.Data, or native MuJoCo's view of the same fields (native.py)."""
+        info = state.info
         command = info["command"]
         obs, motion = self._observe(data, action_state, command, info["prev_gyro"], torque)
         reward, contributions = self.task.reward(motion, command)
@@ -242,8 +259,7 @@ class HB40Env(Env):
             truncated=truncated,
             next_obs=obs,
         )
-        state = State(data, obs, reward, done.astype(jnp.float32), metrics, info)
-        return self._auto_reset(state, reset_key), trace
+        return State(data, obs, reward, done.astype(jnp.float32), metrics, info)
 
     def _fall_rule(self, data, motion, power_steps):
         """Whether the protocol's termination rule fires on this step."""

@@ -1,10 +1,10 @@
 """A policy evaluated on native MuJoCo, or on MJX for comparison, under one fixed command.
 
-Native MuJoCo runs the env's own model file (`env.mj_model`, its gains set by the protocol),
-its action pipeline, observation and fall rule (the same jitted functions the MJX env uses),
-and steps the physics with `mujoco.mj_step` as the env's control step does with `mjx.step`:
-the new targets after the protocol's action delay, joint velocities clipped where the
-protocol clips them. Both engines report the same figures: the velocity along and across the
+`NativeEnv` runs the env's own model file (`env.mj_model`, its gains set by the protocol), its
+reset and its own `begin_step` / `end_step` (action pipeline and delay; observation, reward,
+termination and task), and steps the physics with `mujoco.mj_step` as the env's control step does
+with `mjx.step`: the new targets after the action delay, joint velocities clipped where the
+protocol clips them. The Gymnasium env (gym_env.py) is a thin shell around it. Both engines report the same figures: the velocity along and across the
 command and the yaw rate, measured from the trunk's positions and heading over the run (a
 fall's reset starts a new stretch), falls, and the gait frequency of the foot contacts.
 """
@@ -18,7 +18,7 @@ import mujoco
 import numpy as np
 
 from mjx_badger import analysis, robot
-from mjx_badger.env import CODE_POWER_LIMIT_W, CONTACT_TOLERANCE_M, HB40Env
+from mjx_badger.env import CONTACT_TOLERANCE_M, HB40Env
 
 
 class _Data(NamedTuple):
@@ -88,56 +88,64 @@ def run_mjx(env: HB40Env, act: Callable, command, seconds: float, seed: int = 0)
     return track.summary(np.asarray(command), seconds, env.spec.physics_dt)
 
 
+class NativeEnv:
+    """One HB40 on native MuJoCo that steps as HB40Env does: the env's model file, its reset, and its own
+    `begin_step` / `end_step` (action pipeline, delay, observation, reward, termination, task) around
+    `mujoco.mj_step` in place of `mjx.step`. It does not reset itself: the caller does (Gymnasium's way)."""
+
+    def __init__(self, env: HB40Env):
+        self.env, self.model = env, env.mj_model
+        self.data = mujoco.MjData(self.model)
+        self._reset, self._begin, self._end = jax.jit(env.reset), jax.jit(env.begin_step), jax.jit(env.end_step)
+        self._feet = np.array([self.model.geom(name).id for name in env.spec.foot_geoms])
+        self.state, self.reset_key, self.contacts = None, None, None
+
+    def reset(self, key: jax.Array, command=None, task_state=None):
+        """A new episode (HB40Env.reset); the physics at the env's initial state. Returns the brax State."""
+        command = None if command is None else jnp.asarray(command, jnp.float32)
+        state = self._reset(key, command, task_state)
+        mujoco.mj_resetData(self.model, self.data)
+        self.data.qpos[:] = robot.standing_qpos(self.model, self.env.spec)
+        self.data.ctrl[:] = np.asarray(self.env.action_space.rest_ctrl())
+        mujoco.mj_forward(self.model, self.data)
+        self.state = state.replace(pipeline_state=_view(self.data))
+        return self.state
+
+    def step(self, action):
+        """One control step; `reset_key` is the key HB40Env's auto-reset would use, `contacts` the feet per substep."""
+        env, data = self.env, self.data
+        (key, self.reset_key), action_state, target, delay = self._begin(self.state.info, jnp.asarray(action))
+        previous, target, delay = np.asarray(self.state.info["target"]), np.asarray(target), int(delay)
+        clip, contacts = env.protocol.joint_velocity_clip, []
+        for i in range(env.substeps):
+            ctrl = previous if i < delay else target
+            torque = env.pd_torque(ctrl, data.qpos, data.qvel)
+            data.ctrl[:] = ctrl
+            mujoco.mj_step(self.model, data)
+            if clip is not None:
+                data.qvel[6:] = np.clip(data.qvel[6:], -clip, clip)
+            contacts.append(data.geom_xpos[self._feet, 2] <= env.spec.foot_radius + CONTACT_TOLERANCE_M)
+        self.contacts = np.array(contacts)
+        self.state = self._end(self.state, _view(data), action_state, target, jnp.asarray(torque), key)
+        return self.state
+
+
 def run_native(env: HB40Env, act: Callable, command, seconds: float, seed: int = 0,
                on_step: Callable | None = None) -> dict:
     """`act(observation) -> action` for `seconds` on native MuJoCo, the env's model and pipelines, under `command`.
 
     `on_step(model, data)` sees the physics after every control step (videos draw from it).
     """
-    model, spec, protocol = env.mj_model, env.spec, env.protocol
-    data = mujoco.MjData(model)
-    command = jnp.asarray(command, jnp.float32)
-    observe = jax.jit(env._observe)
-    fall = jax.jit(env._fall_rule)
-    pipeline = jax.jit(env.action_space.step)
-    rng = np.random.default_rng(seed)
-    feet = np.array([model.geom(name).id for name in spec.foot_geoms])
-
-    def fresh():
-        mujoco.mj_resetData(model, data)
-        data.qpos[:] = robot.standing_qpos(model, spec)
-        data.ctrl[:] = np.asarray(env.action_space.rest_ctrl())
-        mujoco.mj_forward(model, data)
-        action_state = env.action_space.init()
-        gyro = data.sensordata[env._gyro].copy()
-        obs, _ = observe(_view(data), action_state, command, gyro, jnp.zeros(12))
-        return action_state, np.asarray(env.action_space.rest_ctrl()), gyro, obs, 0
-
-    action_state, previous_target, gyro, obs, power_steps = fresh()
+    native = NativeEnv(env)
+    state = native.reset(jax.random.PRNGKey(seed), command)
     track = _Track()
     for _ in range(int(round(seconds / env.control_dt))):
-        before = data.qpos.copy()
-        action_state, target = pipeline(action_state, jnp.asarray(act(np.asarray(obs))))
-        target = np.asarray(target)
-        delay = (int(np.clip(round(abs(0.03 + 0.05 * rng.normal()) / spec.physics_dt), 0, env.substeps))
-                 if protocol.action_delay else 0)
-        for i in range(env.substeps):
-            ctrl = previous_target if i < delay else target
-            torque = env._kp * (ctrl[:12] - data.qpos[7:]) - env._kd * data.qvel[6:]
-            data.ctrl[:] = ctrl
-            mujoco.mj_step(model, data)
-            if protocol.joint_velocity_clip is not None:
-                data.qvel[6:] = np.clip(data.qvel[6:], -protocol.joint_velocity_clip, protocol.joint_velocity_clip)
-            track.contacts.append(data.geom_xpos[feet, 2] <= spec.foot_radius + CONTACT_TOLERANCE_M)
-        previous_target = target
-        view = _view(data)
-        obs, motion = observe(view, action_state, command, gyro, jnp.asarray(torque))
-        gyro = view.sensordata[env._gyro]
-        power_steps = power_steps + 1 if np.sum(np.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W else 0
-        fallen = bool(fall(view, motion, power_steps)) and env.terminates
-        track.step(before, data.qpos.copy(), fallen)
+        before = native.data.qpos.copy()
+        state = native.step(act(np.asarray(state.obs)))
+        track.step(before, native.data.qpos.copy(), bool(state.info["terminated"]))
+        track.contacts.extend(native.contacts)
         if on_step is not None:
-            on_step(model, data)
-        if fallen:
-            action_state, previous_target, gyro, obs, power_steps = fresh()
-    return track.summary(np.asarray(command), seconds, spec.physics_dt)
+            on_step(native.model, native.data)
+        if state.done:  # a fall (the episode is as long as the evaluation): start again under the same command
+            state = native.reset(native.reset_key, command)
+    return track.summary(np.asarray(command), seconds, env.spec.physics_dt)

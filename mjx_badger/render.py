@@ -44,35 +44,45 @@ def scenery_model(env) -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_string(xml.replace(line, textured, 1))
 
 
+def follower(env, size: tuple = (480, 360)) -> Callable:
+    """`frame(data)`: an RGB image (height, width, 3) of the env's MjData, the camera following the trunk."""
+    width, height = size
+    renderer = mujoco.Renderer(scenery_model(env), height, width)
+    camera = mujoco.MjvCamera()
+    camera.distance, camera.elevation, camera.azimuth = 1.3, -15.0, 110.0
+    trunk = env.mj_model.body("trunk").id
+
+    def frame(data) -> np.ndarray:
+        camera.lookat[:] = data.xpos[trunk]
+        renderer.update_scene(data, camera)
+        return renderer.render().copy()
+
+    return frame
+
+
 def record(env, act: Callable, command, seconds: float, out: Path, fps: float = 25.0,
            size: tuple = (480, 360)) -> dict:
     """Run `act` on native MuJoCo for `seconds` and write the frames to `out` (.gif); returns the evaluation."""
     out = Path(out)
     if out.suffix.lower() != ".gif":
         raise ValueError(f"{out.name}: videos are written as .gif (an .mp4 needs ffmpeg, which is not installed)")
-    width, height = size
-    renderer = mujoco.Renderer(scenery_model(env), height, width)
-    camera = mujoco.MjvCamera()
-    camera.distance, camera.elevation, camera.azimuth = 1.3, -15.0, 110.0
+    frame = follower(env, size)
     every = max(1, int(round(env.control_hz / fps)))
     frames, count = [], [0]
-    trunk = env.mj_model.body("trunk").id
 
     def draw(model, data):
         count[0] += 1
         if count[0] % every == 0:
-            camera.lookat[:] = data.xpos[trunk]
-            renderer.update_scene(data, camera)
-            frames.append(renderer.render().copy())
+            frames.append(frame(data))
 
     report = native.run_native(env, act, command, seconds, on_step=draw)
-    renderer.close()
     from PIL import Image
 
     out.parent.mkdir(parents=True, exist_ok=True)
     # One 64-colour palette for every frame: about half the size of per-frame palettes, and no flicker.
     palette = Image.fromarray(np.asarray(frames[len(frames) // 2])).quantize(colors=64)
-    images = [Image.fromarray(np.asarray(frame)).quantize(palette=palette, dither=Image.Dither.NONE) for frame in frames]
+    images = [Image.fromarray(np.asarray(picture)).quantize(palette=palette, dither=Image.Dither.NONE)
+              for picture in frames]
     images[0].save(out, save_all=True, append_images=images[1:], duration=int(round(1000 * every / env.control_hz)),
                    optimize=True,
                    loop=0)
