@@ -12,6 +12,7 @@ import io
 import json
 import os
 import re
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -71,6 +72,8 @@ class Train:
     """No progress bar."""
     restart: bool = False
     """Start over, though an interrupted run of this configuration left a checkpoint to resume from."""
+    tensorboard: bool = True
+    """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
 
     def check(self) -> None:
         if self.seeds <= 0:
@@ -85,7 +88,8 @@ class Train:
         out = self.out / f"{config.name}.json"
         print(f"protocol {config.protocol}, robot {config.robot}"
               + "".join(f", {k}={v!r}" for k, v in config.protocol_changes))
-        document = runner.run(config, seeds, out, progress=not self.quiet, resume=not self.restart)
+        document = runner.run(config, seeds, out, progress=not self.quiet, resume=not self.restart,
+                              tensorboard=self.tensorboard)
         print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
               f"compile {document['wall_clock']['compile_s']} s)")
         return 0
@@ -104,6 +108,8 @@ class Reproduce:
     figures_dir: Path = Path("figures")
     force: bool = False
     """Rerun runs whose complete results exist, and start interrupted ones over instead of resuming them."""
+    tensorboard: bool = True
+    """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
 
     def check(self) -> None:
         writable_dir(self.results_dir, "results folder")
@@ -417,7 +423,7 @@ def overall_progress(index: int, runs: int, done: float, total: float, elapsed_s
 
 
 def reproduce_command(args) -> int:
-    from mjx_badger import claims, plots, results, runner
+    from mjx_badger import claims, plots, results, runner, tensorboard
 
     profile = PROFILES[args.profile]
     folder = args.results_dir / args.profile / args.protocol
@@ -447,8 +453,10 @@ def reproduce_command(args) -> int:
             # Experiments share runs (CrossQ JT-NF forward is in two); a run is deterministic per seed.
             print(f"reuse {twin} for {path}: the same configuration and seeds")
             results.write(path, results.read(twin))
+            if tensorboard.folder(twin).is_dir():
+                shutil.copytree(tensorboard.folder(twin), tensorboard.folder(path), dirs_exist_ok=True)
             continue
-        runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force)
+        runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force, tensorboard=args.tensorboard)
     for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
         print(f"wrote {path}")
     from mjx_badger import render

@@ -11,6 +11,7 @@ import numpy as np
 from tqdm import tqdm
 
 from mjx_badger import checkpoints, policy, results
+from mjx_badger import tensorboard as event_files
 from mjx_badger.train import TrainConfig, make_train
 
 
@@ -31,12 +32,14 @@ def seeds_chunk(trainer, num_seeds: int):
     return single
 
 
-def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True, resume: bool = True) -> dict:
+def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True, resume: bool = True,
+        tensorboard: bool = True) -> dict:
     """Train `config` for every seed in one vmapped program; returns the results document.
 
     The carry is checkpointed as it goes (checkpoints.py); with `resume` a run of the same
     configuration and seeds that was interrupted continues from its last checkpoint, and
     ends with the numbers an uninterrupted run gives. The checkpoints go once the run is complete.
+    With `tensorboard`, the metrics also go to event files beside the results (tensorboard.py).
     """
     started = results.now()
     trainer = make_train(config)
@@ -70,6 +73,7 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
             first, carry = found
             document = _truncated(previous, first)
             print(f"resuming {out_path.name} at step {first * config.chunk_steps} from {saved.path}", file=sys.stderr)
+    events = event_files.Writer(out_path, seeds, document) if tensorboard else None
     label = f"{config.approach} {config.algo} {config.task} x{len(seeds)}"
     bar = tqdm(total=config.num_chunks * config.chunk_steps, initial=first * config.chunk_steps, desc=label,
                unit="step", file=sys.stderr, disable=not progress, dynamic_ncols=True, mininterval=2.0)
@@ -94,6 +98,11 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
                                       seed_steps_per_s=round(steps * len(seeds) / run_s, 1))
         document["hardware"] = results.hardware()
         results.write(out_path, document)  # before the checkpoint: the file never runs behind it
+        if events is not None:
+            t0 = time.perf_counter()
+            events.write(metrics, steps)
+            document["wall_clock"]["tensorboard_s"] = round(document["wall_clock"].get("tensorboard_s", 0.0)
+                                                            + time.perf_counter() - t0, 3)
         since_saved += 1
         if not document["complete"] and since_saved >= every:
             t0 = time.perf_counter()
@@ -104,6 +113,8 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
         bar.update(config.chunk_steps)
         bar.set_postfix(progress_figures(metrics))
     bar.close()
+    if events is not None:
+        events.close()
     document["gait"] = gait_record(trainer, carry, config)
     document["policy"] = save_policy(out_path, trainer, carry, document).name
     document["agents"] = checkpoints.save_agents(out_path, carry.agent_state).name

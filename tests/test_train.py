@@ -2,6 +2,7 @@
 
 import json
 import os
+import struct
 import subprocess
 import sys
 
@@ -10,7 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from conftest import TINY_TRAIN, seed_keys
-from mjx_badger import evaluation, plots, policy, results, runner
+from mjx_badger import evaluation, plots, policy, results, runner, tensorboard
 from mjx_badger.cli import main
 from mjx_badger.experiments import EXPERIMENTS, result_name
 from mjx_badger.train import TrainConfig
@@ -67,6 +68,22 @@ def test_whole_train_program_matches_chunked_runs(trainer, train_fns):
     assert np.isfinite(stacked["train/critic_loss"][0, 1:]).all()
 
 
+def _scalars(folder):
+    """{tag: [(step, value)]} of the event files in `folder` (TFRecord: length, crc, Event proto, crc)."""
+    from tensorboardX.proto.event_pb2 import Event
+
+    found = {}
+    for path in sorted(folder.glob("events.out.tfevents.*")):
+        data, at = path.read_bytes(), 0
+        while at < len(data):
+            (length,) = struct.unpack("<Q", data[at:at + 8])
+            event = Event.FromString(data[at + 12:at + 12 + length])
+            at += 16 + length
+            for value in event.summary.value:
+                found.setdefault(value.tag, []).append((event.step, value.simple_value))
+    return found
+
+
 def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     experiment = EXPERIMENTS["forward"]
     path = tmp_path / "results" / "forward" / result_name(experiment.runs[2])
@@ -81,6 +98,15 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
     assert document["config"]["protocol"] == "thesis-code"
     assert document["config"]["env"]["protocol"]["termination"] == "thesis-code"
     assert np.array(document["metrics"]["train/forward_velocity"]).shape == (3, 2)
+    # TensorBoard: one run per seed, one scalar per metric and chunk (none while a metric has no value yet).
+    events = {seed: _scalars(tensorboard.folder(path) / f"seed_{seed}") for seed in (0, 1)}
+    for seed, column in ((0, 0), (1, 1)):
+        rows = np.array(document["metrics"]["train/forward_velocity"], dtype=float)[:, column]
+        assert [step for step, _ in events[seed]["train/forward_velocity"]] == [100, 200, 300]
+        np.testing.assert_allclose([value for _, value in events[seed]["train/forward_velocity"]], rows, atol=1e-5)
+    learner = np.array(document["metrics"]["train/critic_loss"], dtype=float)[:, 0]
+    assert len(events[0]["train/critic_loss"]) == np.isfinite(learner).sum() < 3  # warm-up chunk left out
+    assert document["wall_clock"]["tensorboard_s"] >= 0
     assert _evaluation_schema(document["metrics"]) == ({"forward"}, set(evaluation.RUN_METRICS))
     assert (path.parent / document["agents"]).is_dir()
     saved = policy.load(path.parent / document["policy"], seed=1)
