@@ -5,7 +5,7 @@ PY := $(VENV)/bin/python
 PROFILE ?= quick
 PROTOCOL ?= thesis-code
 
-.PHONY: install test test-slow reproduce-figures figures benchmark clean
+.PHONY: install test test-slow reproduce-figures figures benchmark bench-peers clean
 
 $(VENV)/.installed: pyproject.toml requirements.lock
 	$(PYTHON) -m venv $(VENV)
@@ -32,6 +32,11 @@ benchmark: install
 	$(PY) benchmarks/bench_contacts.py
 	$(PY) benchmarks/bench_algorithms.py
 	$(PY) benchmarks/bench_realtime.py
+
+# Peers (sbx CrossQ, with Stable-Baselines3 and PyTorch) go into the venv only here, never for `make test`.
+bench-peers: install
+	$(VENV)/bin/pip install --quiet -r requirements-peers.lock
+	$(PY) benchmarks/bench_peers.py
 
 clean:
 	rm -rf $(VENV) results .pytest_cache

@@ -66,12 +66,13 @@ def mjx_env_steps_per_s(batch, steps=200):
     return batch * steps / timed(fn, jax.random.split(jax.random.PRNGKey(0), batch))
 
 
-def update_program(seeds, algo="crossq", updates=200):
-    """A compiled scan of `updates` gradient updates on a filled replay buffer, and its arguments.
+def update_program(seeds, algo="crossq", updates=200, cfg=None):
+    """A jitted scan of `updates` gradient updates on a filled replay buffer, and its arguments.
 
-    One seed runs the unbatched program, as the runner does (see runner.seeds_chunk).
+    One seed runs the unbatched program, as the runner does (see runner.seeds_chunk). `cfg`
+    (an AgentConfig) replaces the algorithm's default configuration.
     """
-    cfg = ALGORITHMS[algo]()
+    cfg = ALGORITHMS[algo]() if cfg is None else cfg
     agent = make_agent(cfg, 54, 12)
     buffer = replay.init(10_000, 54, 12)
     buffer = buffer.replace(
