@@ -54,6 +54,15 @@ def writable_dir(path: Path, what: str) -> None:
         raise ValueError(f"{what} {str(path)!r} is not writable: {error.strerror or error}") from None
 
 
+def check_seed_devices(seeds: int) -> None:
+    """The seeds split evenly over this machine's devices (runner.seed_sharding), checked before any compile."""
+    import jax
+
+    from mjx_badger.runner import check_seeds_divide
+
+    check_seeds_divide(seeds, jax.device_count())
+
+
 def _progress_bar() -> bool:
     return sys.stderr.isatty() or os.environ.get("CI") is None
 
@@ -78,6 +87,7 @@ class Train:
     def check(self) -> None:
         if self.seeds <= 0:
             raise ValueError(f"--seeds must be a positive number, not {self.seeds}")
+        check_seed_devices(self.seeds)
         writable_dir(self.out, "output folder")
 
     def __call__(self) -> int:
@@ -112,6 +122,7 @@ class Reproduce:
     """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
 
     def check(self) -> None:
+        check_seed_devices(PROFILES[self.profile].seeds)
         writable_dir(self.results_dir, "results folder")
         writable_dir(self.figures_dir, "figures folder")
 
@@ -442,6 +453,8 @@ def reproduce_command(args) -> int:
     updates = sum(work)
     print(f"profile {args.profile}, protocol {args.protocol}: {len(todo)} runs x {profile.seeds} seeds, {updates:,} gradient updates in all; "
           f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1 min compile per run")
+    if args.profile == "full" and todo:
+        print(measured_estimate(todo, args, profile.seeds), flush=True)
     started = time.perf_counter()
     for index, (experiment, run, path) in enumerate(todo):
         print(overall_progress(index, len(todo), sum(work[:index]), updates, time.perf_counter() - started),
@@ -469,6 +482,23 @@ def reproduce_command(args) -> int:
     print(claims.scoreboard_text(boards[args.protocol], args.profile, args.protocol))
     write_scoreboard_markdown(args.figures_dir / f"claims_{args.profile}.md", boards, args.results_dir / args.profile)
     return 0
+
+
+def measured_estimate(todo: list, args, seeds: int) -> str:
+    """The time the runs in `todo` will take here, from one short timed chunk per algorithm among them."""
+    from mjx_badger import runner
+
+    speed, seconds = {}, 0.0
+    for experiment, run, _ in todo:
+        if run.algo not in speed:
+            print(f"timing a short {run.approach} {run.algo} chunk on this machine ...", flush=True)
+            speed[run.algo] = runner.measure(experiment.train_config(run, args.profile, args.protocol),
+                                             list(range(seeds)))
+        measured = speed[run.algo]
+        seconds += experiment.steps(run, args.profile) * seeds / measured["seed_steps_per_s"] + measured["compile_s"]
+    rates = ", ".join(f"{algo} {m['seed_steps_per_s']:.0f} seed-steps/s" for algo, m in speed.items())
+    return (f"measured here ({rates}; compile {max(m['compile_s'] for m in speed.values()):.0f} s at most): "
+            f"about {seconds / 3600:.1f} h for these {len(todo)} runs")
 
 
 def _same_run(folder: Path, config, seeds, pattern: str | None = None):

