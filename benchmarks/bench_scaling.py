@@ -1,0 +1,63 @@
+"""Seed-steps/s and compile time against the number of vmapped seeds, on this machine.
+
+For each seed count, `runner.measure` compiles a JT-NF CrossQ chunk (thesis-code, 200 learning
+steps, updates from the first step) for that many seeds and times one chunk after an untimed
+first one. Writes benchmarks/results/scaling.json and scaling.png. Run on an idle machine:
+`python benchmarks/bench_scaling.py [--seeds 1 2 4 8 16 32 64]`.
+"""
+
+import argparse
+import json
+from pathlib import Path
+
+import jax
+
+from mjx_badger import results, runner
+from mjx_badger.train import TrainConfig
+
+OUT = Path(__file__).parent / "results" / "scaling.json"
+
+
+def plot(rows: list, path: Path, device: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    seeds = [r["seeds"] for r in rows]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.6))
+    left.plot(seeds, [r["seed_steps_per_s"] for r in rows], "o-", label="measured")
+    left.plot(seeds, [rows[0]["seed_steps_per_s"]] * len(rows), "--", color="grey", label="one seed at a time")
+    left.set(xscale="log", xlabel="vmapped seeds", ylabel="seed-steps/s (env step + update)", title=device)
+    left.set_xticks(seeds, [str(s) for s in seeds])
+    left.legend(fontsize=8)
+    right.plot(seeds, [r["compile_s"] for r in rows], "o-", color="C1")
+    right.set(xscale="log", xlabel="vmapped seeds", ylabel="chunk compile (s)", title="compile time")
+    right.set_xticks(seeds, [str(s) for s in seeds])
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64])
+    parser.add_argument("--out", type=Path, default=OUT)
+    args = parser.parse_args()
+    config = TrainConfig(approach="jt-nf", algo="crossq", task="forward", protocol="thesis-code")
+    rows = []
+    for count in args.seeds:
+        measured = runner.measure(config, list(range(count)))
+        rows.append({"seeds": count, **measured})
+        print(f"{count:3d} seeds: {measured['seed_steps_per_s']:7.1f} seed-steps/s, compile {measured['compile_s']:.1f} s",
+              flush=True)
+    device = f"{jax.devices()[0].device_kind} x{jax.device_count()}"
+    report = {"device": device, "machine": results.hardware(), "versions": results.versions(),
+              "git_commit": results.git_commit(), "config": "jt-nf crossq forward, thesis-code, 200-step chunks",
+              "rows": rows}
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(report, indent=1))
+    plot(rows, args.out.with_suffix(".png"), device)
+
+
+if __name__ == "__main__":
+    main()
