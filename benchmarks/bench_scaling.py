@@ -8,6 +8,7 @@ first one. Writes benchmarks/results/scaling.json and scaling.png. Run on an idl
 
 import argparse
 import json
+import os
 from pathlib import Path
 
 import jax
@@ -50,7 +51,7 @@ def main():
         rows.append({"seeds": count, **measured})
         print(f"{count:3d} seeds: {measured['seed_steps_per_s']:7.1f} seed-steps/s, compile {measured['compile_s']:.1f} s",
               flush=True)
-    device = f"{jax.devices()[0].device_kind} x{jax.device_count()}"
+    device = f"{jax.devices()[0].device_kind} x{jax.device_count()} ({os.cpu_count()} CPU cores)"
     report = {"device": device, "machine": results.hardware(), "versions": results.versions(),
               "git_commit": results.git_commit(), "config": "jt-nf crossq forward, thesis-code, 200-step chunks",
               "rows": rows}
