@@ -54,20 +54,45 @@ def check_seeds_divide(num_seeds: int, num_devices: int) -> None:
 def compiled(trainer, seeds: list[int]):
     """(the seeds' initial carry, the compiled chunk, compile seconds); on several devices both split by seed."""
     keys = jax.vmap(jax.random.PRNGKey)(jnp.asarray(seeds))
-    init, step = jax.vmap(trainer.init), seeds_chunk(trainer, len(seeds))
+    init = jax.jit(jax.vmap(trainer.init))
     sharding = seed_sharding(len(seeds))
-    if sharding is not None:
-        # Each device runs the program of its own seeds exactly as one device would run them (shard_map):
-        # left to itself, XLA's partitioner may split a contraction over devices and sum in another order.
-        mesh, spec = sharding.mesh, sharding.spec
-        keys = jax.device_put(keys, sharding)
-        init = jax.shard_map(init, mesh=mesh, in_specs=spec, out_specs=spec)
-        step = jax.shard_map(seeds_chunk(trainer, len(seeds) // mesh.size), mesh=mesh,
-                             in_specs=(spec, PartitionSpec()), out_specs=spec, check_vma=False)
-    carry = jax.jit(init)(keys)
+    if sharding is None:
+        carry = init(keys)
+        t0 = time.perf_counter()
+        chunk = jax.jit(seeds_chunk(trainer, len(seeds)), donate_argnums=0).lower(carry, 0).compile()
+        return carry, chunk, time.perf_counter() - t0
+    # Each device runs the one-device program of its own seeds (the same HLO, so the same numbers as
+    # one device running them); the carry and metrics are global arrays sharded on the seed axis. An
+    # SPMD program (jit or shard_map over the mesh) fuses differently and rounds differently.
+    devices = list(sharding.mesh.devices.flat)
+    local = len(seeds) // len(devices)
+    parts = [init(jax.device_put(keys[i * local:(i + 1) * local], device)) for i, device in enumerate(devices)]
+    program = jax.jit(seeds_chunk(trainer, local))
     t0 = time.perf_counter()
-    chunk = jax.jit(step, donate_argnums=0).lower(carry, 0).compile()
-    return carry, chunk, time.perf_counter() - t0
+    programs = [program.lower(part, 0).compile() for part in parts]
+    compile_s = time.perf_counter() - t0
+
+    def chunk(carry, start):
+        outputs = [run(part, start) for run, part in zip(programs, _per_device(carry, devices))]
+        return _sharded(outputs, sharding)
+
+    return _sharded(parts, sharding), chunk, compile_s
+
+
+def _per_device(tree, devices: list) -> list:
+    """One tree per device, of that device's shard of every leaf."""
+    shards = [{shard.device: shard.data for shard in leaf.addressable_shards} for leaf in jax.tree.leaves(tree)]
+    structure = jax.tree.structure(tree)
+    return [jax.tree.unflatten(structure, [by_device[device] for by_device in shards]) for device in devices]
+
+
+def _sharded(parts: list, sharding: NamedSharding):
+    """The per-device trees `parts` joined into global arrays split along the leading (seed) axis."""
+    def join(*leaves):
+        shape = (sum(leaf.shape[0] for leaf in leaves),) + leaves[0].shape[1:]
+        return jax.make_array_from_single_device_arrays(shape, sharding, list(leaves))
+
+    return jax.tree.map(join, *parts)
 
 
 def measure(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
