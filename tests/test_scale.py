@@ -75,3 +75,30 @@ def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
 def test_a_short_chunk_is_timed_on_this_machine():
     measured = runner.measure(TINY_TRAIN, [0, 1], steps=20)
     assert measured["seed_steps_per_s"] > 0 and measured["compile_s"] > 0
+
+
+RESUME_SHARDED = """
+import sys, jax, numpy as np
+from pathlib import Path
+sys.path.insert(0, {tests!r})
+from conftest import TINY_TRAIN
+from mjx_badger import checkpoints, runner
+from mjx_badger.train import make_train
+carry, chunk, _ = runner.compiled(make_train(TINY_TRAIN), [0, 1])
+carry, _ = chunk(carry, 0)
+saved = checkpoints.Checkpoints(Path({path!r}), {{"config": "tiny", "seeds": [0, 1]}})
+saved.save(1, carry)
+done, restored = saved.restore(carry)
+_, straight = chunk(carry, 100)
+_, resumed = chunk(restored, 100)
+same = all(np.array_equal(np.asarray(a), np.asarray(b), equal_nan=True)
+           for a, b in zip(jax.tree.leaves(straight), jax.tree.leaves(resumed)))
+print(done, len(restored.diverged_at.sharding.device_set), same)
+"""
+
+
+def test_a_sharded_carry_checkpoints_and_resumes_sharded(tmp_path):
+    code = RESUME_SHARDED.format(tests=os.path.dirname(__file__), path=str(tmp_path / "run.json"))
+    done = subprocess.run([sys.executable, "-c", code], env=TWO_CPU_DEVICES, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.split()[-3:] == ["1", "2", "True"]  # restored after chunk 1, on both devices, same next chunk
