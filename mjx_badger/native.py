@@ -85,6 +85,8 @@ def run_mjx(env: HB40Env, act: Callable, command, seconds: float, seed: int = 0)
         state, (contacts, _) = step(state, jnp.asarray(act(np.asarray(state.obs))))
         track.step(before, np.asarray(state.pipeline_state.qpos), bool(state.info["terminated"]))
         track.contacts.extend(np.asarray(contacts))
+        if bool(state.info["terminated"]):  # the env's own reset drew the task's command: start again under this one
+            state = env.reset(jax.random.PRNGKey(seed + track.falls), jnp.asarray(command, jnp.float32))
     return track.summary(np.asarray(command), seconds, env.spec.physics_dt)
 
 
