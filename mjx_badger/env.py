@@ -2,8 +2,8 @@
 
 Follows brax's `Env` / `State` conventions (state.pipeline_state is the `mjx.Data`,
 `state.info` a dict of per-episode variables). brax's own trainers drive it through
-`brax_compat.wrap` (the env ends and resets its own episodes; brax_compat says why). The environment knows nothing of agents: it sees only actions and returns
-observations. Everything on which the thesis's code and text differ comes from the
+`brax_compat.wrap` (the env ends and resets its own episodes; brax_compat says why). The
+environment knows nothing of agents: it sees only actions and returns observations. Everything on which the thesis's code and text differ comes from the
 protocol in `EnvConfig` (protocols.py).
 
 Observation (thesis Table 4.1, trunk frame): 54 values for the joint-target approaches,

@@ -43,13 +43,13 @@ class HB40GymEnv(gymnasium.Env):
         key = jax.random.PRNGKey(int(self.np_random.integers(2**31)))
         state = self.native.reset(key, command, self._task_state)
         self._task_state = state.info["task_state"]
-        return self._observation(state), self._info(state)
+        obs, _, _, _, info = self._host(state)
+        return obs, info
 
     def step(self, action):
         state = self.native.step(np.clip(np.asarray(action, np.float32), -1.0, 1.0))
         self._task_state = state.info["task_state"]
-        return (self._observation(state), float(state.reward), bool(state.info["terminated"]),
-                bool(state.info["truncated"]), self._info(state))
+        return self._host(state)
 
     def render(self):
         if self.render_mode != "rgb_array":
@@ -64,12 +64,12 @@ class HB40GymEnv(gymnasium.Env):
         self._renderer = None
 
     @staticmethod
-    def _observation(state) -> np.ndarray:
-        return np.array(state.obs, dtype=np.float32)  # a new array every call (Gymnasium checks for reuse)
-
-    @staticmethod
-    def _info(state) -> dict:
-        info = {"command": np.array(state.info["command"]), "fell": bool(state.info["terminated"])}
-        info.update({name: float(value) for name, value in state.metrics.items()})
-        return info
-
+    def _host(state):
+        """(obs, reward, terminated, truncated, info) on the host, in one transfer; new arrays every call
+        (Gymnasium checks that returned data is not reused)."""
+        obs, reward, terminated, truncated, command, metrics = jax.device_get(
+            (state.obs, state.reward, state.info["terminated"], state.info["truncated"], state.info["command"],
+             state.metrics))
+        info = {"command": np.array(command), "fell": bool(terminated)}
+        info.update({name: float(value) for name, value in metrics.items()})
+        return np.array(obs, dtype=np.float32), float(reward), bool(terminated), bool(truncated), info

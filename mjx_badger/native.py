@@ -4,9 +4,10 @@
 reset and its own `begin_step` / `end_step` (action pipeline and delay; observation, reward,
 termination and task), and steps the physics with `mujoco.mj_step` as the env's control step does
 with `mjx.step`: the new targets after the action delay, joint velocities clipped where the
-protocol clips them. The Gymnasium env (gym_env.py) is a thin shell around it. Both engines report the same figures: the velocity along and across the
-command and the yaw rate, measured from the trunk's positions and heading over the run (a
-fall's reset starts a new stretch), falls, and the gait frequency of the foot contacts.
+protocol clips them. The Gymnasium env (gym_env.py) is a thin shell around it. Both engines
+report the same figures: the velocity along and across the command and the yaw rate, measured
+from the trunk's positions and heading over the run (a fall's reset starts a new stretch),
+falls, and the gait frequency of the foot contacts.
 """
 
 import dataclasses
@@ -117,7 +118,7 @@ class NativeEnv:
         """One control step; `reset_key` is the key HB40Env's auto-reset would use, `contacts` the feet per substep."""
         env, data = self.env, self.data
         (key, self.reset_key), action_state, target, delay = self._begin(self.state.info, jnp.asarray(action))
-        previous, target, delay = np.asarray(self.state.info["target"]), np.asarray(target), int(delay)
+        previous, target, delay = jax.device_get((self.state.info["target"], target, delay))  # one transfer
         clip, contacts = env.protocol.joint_velocity_clip, []
         for i in range(env.substeps):
             ctrl = previous if i < delay else target
