@@ -1,4 +1,4 @@
-"""Command line: `python -m mjx_badger {train,reproduce,figures,claims,attribute,realtime,list}`.
+"""Command line: `python -m mjx_badger {train,sweep,reproduce,figures,claims,attribute,realtime,list}`.
 
 tyro builds every option from the dataclasses below and the run specs they hold
 (TrainConfig, RealtimeConfig), so each option is declared once, its docstring its help.
@@ -102,6 +102,57 @@ class Train:
                               tensorboard=self.tensorboard)
         print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
               f"compile {document['wall_clock']['compile_s']} s)")
+        return 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Sweep:
+    """Train every combination of a grid of numeric parameters as one program; one results file per member."""
+
+    run: Annotated[TrainConfig, Flat] = TrainConfig()
+    vary: Annotated[tuple[str, ...], tyro.conf.UseAppendAction] = ()
+    """GROUP.NAME=V1,V2,... with GROUP approach_params, algo_params or task_params; repeat for a grid."""
+    grid: Optional[Path] = None
+    """A JSON file {"GROUP.NAME": [values], ...}, combined with any --vary."""
+    seeds: int = 3
+    """Seeds per member, vmapped inside it."""
+    first_seed: int = 0
+    vmapped: int = 1
+    """Members vmapped together: 1 gives each member's separate-run numbers to the bit; more is faster on a GPU."""
+    out: Path = Path("results/sweep")
+    """Folder for the members' results files."""
+    quiet: bool = False
+    restart: bool = False
+    """Start over, though an interrupted sweep left a checkpoint to resume from."""
+    tensorboard: bool = True
+
+    def axes(self) -> tuple:
+        from mjx_badger import sweep
+
+        return (sweep.read_grid(self.grid) if self.grid else ()) + tuple(sweep.parse_axis(v) for v in self.vary)
+
+    def check(self) -> None:
+        from mjx_badger import sweep
+
+        if self.seeds <= 0 or self.vmapped <= 0:
+            raise ValueError(f"--seeds and --vmapped must be positive numbers, not {self.seeds} and {self.vmapped}")
+        sweep.members(self.run, self.axes())
+        writable_dir(self.out, "output folder")
+
+    def __call__(self) -> int:
+        from mjx_badger import sweep
+
+        seeds = list(range(self.first_seed, self.first_seed + self.seeds))
+        try:
+            documents = sweep.run(self.run, self.axes(), seeds, self.out, self.vmapped, progress=not self.quiet,
+                                  resume=not self.restart, tensorboard=self.tensorboard)
+        except ValueError as error:  # refused after building the members: shapes, or a field fixed when built
+            print(f"error: {error}", file=sys.stderr)
+            return 2
+        for document in documents:
+            print(f"wrote {self.out / document['policy'].replace('.policy.npz', '.json')}")
+        print(f"{len(documents)} members x {self.seeds} seeds: {documents[0]['wall_clock']['seed_steps_per_s']} "
+              f"seed-steps/s, compile {documents[0]['wall_clock']['compile_s']} s")
         return 0
 
 
@@ -379,7 +430,7 @@ class List:
         return 0
 
 
-COMMANDS = {"train": Train, "reproduce": Reproduce, "figures": Figures, "claims": Claims, "attribute": Attribute,
+COMMANDS = {"train": Train, "sweep": Sweep, "reproduce": Reproduce, "figures": Figures, "claims": Claims, "attribute": Attribute,
             "realtime": Realtime, "evaluate": Evaluate, "render": Render, "list": List}
 
 

@@ -5,6 +5,7 @@ import json
 import sys
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -106,6 +107,15 @@ def measure(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
     return {"seed_steps_per_s": len(seeds) * steps / (time.perf_counter() - t0), "compile_s": compile_s}
 
 
+class Member(NamedTuple):
+    """One results file a program writes: its configuration, seeds, path and (concrete) environment."""
+
+    config: TrainConfig
+    seeds: list
+    out_path: Path
+    env: object
+
+
 def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True, resume: bool = True,
         tensorboard: bool = True) -> dict:
     """Train `config` for every seed in one vmapped program; returns the results document.
@@ -118,12 +128,25 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     started = results.now()
     trainer = make_train(config)
     carry, chunk, compile_s = compiled(trainer, seeds)
+    member = Member(config, list(seeds), out_path, trainer.env)
+    carry, (document,) = train_loop([member], carry, chunk, lambda carry, metrics: [(metrics, carry.diverged_at)],
+                                    out_path, started, compile_s, progress, resume, tensorboard)
+    gait = jax.device_get(jax.jit(jax.vmap(trainer.gait))(carry))
+    return finish(member, document, gait, carry.agent_state)
 
-    control_hz = trainer.env.control_hz
-    document = {
+
+def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, started: str, compile_s: float,
+               progress: bool, resume: bool, tensorboard: bool) -> tuple:
+    """Run `chunk` over all chunks, writing each member's results file as it goes: (final carry, documents).
+
+    `views(carry, metrics)` gives each member's (metrics, diverged_at) with a leading seed axis.
+    One checkpoint of the whole carry beside `checkpoint_path` serves every member.
+    """
+    config = members[0].config
+    documents = [{
         "schema": results.SCHEMA,
-        "config": results.config_dict(config),
-        "seeds": list(seeds),
+        "config": results.config_dict(m.config),
+        "seeds": list(m.seeds),
         "complete": False,
         "steps": [],
         "sim_minutes": [],
@@ -131,24 +154,27 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
         "wall_clock": {"started": started, "compile_s": round(compile_s, 2)},
         "versions": results.versions(),
         "git_commit": results.git_commit(),
-    }
-    saved = checkpoints.Checkpoints(out_path, {"config": document["config"], "seeds": document["seeds"]})
+    } for m in members]
+    identity = [{"config": d["config"], "seeds": d["seeds"]} for d in documents]
+    saved = checkpoints.Checkpoints(checkpoint_path, identity[0] if len(members) == 1 else {"members": identity})
     first = 0
     if not resume:
         saved.remove()
     else:
         found = saved.restore(carry)
-        previous = _partial(out_path, document)
-        if found is not None and previous is not None and len(previous["steps"]) >= found[0]:
+        previous = [_partial(m.out_path, d) for m, d in zip(members, documents)]
+        if found is not None and all(p is not None and len(p["steps"]) >= found[0] for p in previous):
             first, carry = found
-            document = _truncated(previous, first)
-            print(f"resuming {out_path.name} at step {first * config.chunk_steps} from {saved.path}", file=sys.stderr)
-    events = event_files.Writer(out_path, seeds, document) if tensorboard else None
-    label = f"{config.approach} {config.algo} {config.task} x{len(seeds)}"
+            documents = [_truncated(p, first) for p in previous]
+            print(f"resuming {checkpoint_path.name} at step {first * config.chunk_steps} from {saved.path}",
+                  file=sys.stderr)
+    events = [event_files.Writer(m.out_path, m.seeds, d) if tensorboard else None for m, d in zip(members, documents)]
+    seeds = sum(len(m.seeds) for m in members)
+    label = f"{config.approach} {config.algo} {config.task} x{seeds}"
     bar = tqdm(total=config.num_chunks * config.chunk_steps, initial=first * config.chunk_steps, desc=label,
                unit="step", file=sys.stderr, disable=not progress, dynamic_ncols=True, mininterval=2.0)
-    run_s = document["wall_clock"].get("run_s", 0.0)
-    save_s = document["wall_clock"].get("checkpoint_s", 0.0)
+    run_s = documents[0]["wall_clock"].get("run_s", 0.0)
+    save_s = documents[0]["wall_clock"].get("checkpoint_s", 0.0)
     every, since_saved = 1, 0
     for index in range(first, config.num_chunks):
         start = index * config.chunk_steps
@@ -158,49 +184,58 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
         chunk_s = time.perf_counter() - t0
         run_s += chunk_s
         steps = start + config.chunk_steps
-        document["steps"].append(steps)
-        document["sim_minutes"].append(round(steps / control_hz / 60, 4))
-        for name, values in metrics.items():
-            document["metrics"].setdefault(name, []).append(np.asarray(values, dtype=float).round(5).tolist())
-        document["complete"] = index == config.num_chunks - 1
-        note_divergence(document, jax.device_get(carry.diverged_at), out_path)
-        document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2), checkpoint_s=round(save_s, 2),
-                                      seed_steps_per_s=round(steps * len(seeds) / run_s, 1))
-        document["hardware"] = results.hardware()
-        results.write(out_path, document)  # before the checkpoint: the file never runs behind it
-        if events is not None:
-            t0 = time.perf_counter()
-            events.write(metrics, steps)
-            document["wall_clock"]["tensorboard_s"] = round(document["wall_clock"].get("tensorboard_s", 0.0)
-                                                            + time.perf_counter() - t0, 3)
+        complete = index == config.num_chunks - 1
+        for member, document, writer, (own, diverged_at) in zip(members, documents, events, views(carry, metrics)):
+            document["steps"].append(steps)
+            document["sim_minutes"].append(round(steps / member.env.control_hz / 60, 4))
+            for name, values in own.items():
+                document["metrics"].setdefault(name, []).append(np.asarray(values, dtype=float).round(5).tolist())
+            document["complete"] = complete
+            note_divergence(document, jax.device_get(diverged_at), member.out_path)
+            document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2),
+                                          checkpoint_s=round(save_s, 2),
+                                          seed_steps_per_s=round(steps * seeds / run_s, 1))
+            document["hardware"] = results.hardware()
+            results.write(member.out_path, document)  # before the checkpoint: the file never runs behind it
+            if writer is not None:
+                t0 = time.perf_counter()
+                writer.write(own, steps)
+                document["wall_clock"]["tensorboard_s"] = round(document["wall_clock"].get("tensorboard_s", 0.0)
+                                                                + time.perf_counter() - t0, 3)
         since_saved += 1
-        if not document["complete"] and since_saved >= every:
+        if not complete and since_saved >= every:
             t0 = time.perf_counter()
             saved.save(index + 1, carry)
             took = time.perf_counter() - t0
             save_s += took
             every, since_saved = checkpoints.interval(took, chunk_s), 0
         bar.update(config.chunk_steps)
-        bar.set_postfix(progress_figures(metrics))
+        bar.set_postfix(progress_figures(views(carry, metrics)[0][0]))
     bar.close()
-    if events is not None:
-        events.close()
-    document["gait"] = gait_record(trainer, carry, config)
-    document["policy"] = save_policy(out_path, trainer, carry, document).name
-    document["agents"] = checkpoints.save_agents(out_path, carry.agent_state).name
-    results.write(out_path, document)
+    for writer in events:
+        if writer is not None:
+            writer.close()
     saved.remove()
+    return carry, documents
+
+
+def finish(member: Member, document: dict, gait: dict, agent_states) -> dict:
+    """The results file completed: the gait record, the saved policy and the agents beside it."""
+    document["gait"] = gait_record(member, gait)
+    document["policy"] = save_policy(member, agent_states, document).name
+    document["agents"] = checkpoints.save_agents(member.out_path, agent_states).name
+    results.write(member.out_path, document)
     return document
 
 
-def save_policy(out_path: Path, trainer, carry, document: dict) -> Path:
+def save_policy(member: Member, agent_states, document: dict) -> Path:
     """Every seed's final actor beside the results file, in policy.py's NumPy format."""
-    env = trainer.env
-    params, stats = jax.device_get((carry.agent_state.actor_params, carry.agent_state.actor_stats))
+    env = member.env
+    params, stats = jax.device_get((agent_states.actor_params, agent_states.actor_stats))
     meta = {"seeds": document["seeds"], "config": document["config"], "control_hz": env.control_hz,
             "observation_layout": [list(block) for block in env.observation_layout],
             "observation_size": env.observation_size, "action_size": env.action_size}
-    return policy.save(policy.path_for(out_path), params, stats, meta)
+    return policy.save(policy.path_for(member.out_path), params, stats, meta)
 
 
 def _partial(path: Path, fresh: dict) -> dict | None:
@@ -249,13 +284,13 @@ def progress_figures(metrics: dict) -> dict:
     return {k: f"{v:.2f}" for k, v in shown.items()}
 
 
-def gait_record(trainer, carry, config: TrainConfig) -> dict:
-    """Foot contacts and forward velocity at the physics rate from a deterministic run after training."""
-    trace = jax.device_get(jax.jit(jax.vmap(trainer.gait))(carry))
+def gait_record(member: Member, trace: dict) -> dict:
+    """Foot contacts and forward velocity at the physics rate from a deterministic run after training (`trace`)."""
+    env = member.env
     return {
-        "physics_dt": trainer.env.mj_model.opt.timestep,
-        "seconds": config.gait_seconds / 2,
-        "command": list(map(float, next(iter(trainer.env.task.eval_commands.values())))),
+        "physics_dt": env.mj_model.opt.timestep,
+        "seconds": member.config.gait_seconds / 2,
+        "command": list(map(float, next(iter(env.task.eval_commands.values())))),
         "contacts": np.asarray(trace["contacts"], dtype=int).tolist(),
         "forward_velocity": np.asarray(trace["forward_velocity"], dtype=float).round(4).tolist(),
     }

@@ -1,4 +1,4 @@
-"""Seeds split over devices: the same numbers as on one device (a 2-device CPU in a subprocess)."""
+"""Scale out: seeds split over devices and sweeps in one program, both with the numbers of separate runs."""
 
 import os
 import subprocess
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import TINY_TRAIN
-from mjx_badger import results, runner
+from mjx_badger import results, runner, sweep
 
 TWO_CPU_DEVICES = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
 
@@ -21,25 +21,36 @@ def _train(out, seeds, env):
     return subprocess.run(command, env=env, capture_output=True, text=True)
 
 
-def test_seeds_sharded_over_two_devices_give_the_numbers_of_one_device(tmp_path):
+@pytest.fixture(scope="module")
+def alone(tmp_path_factory):
+    """The tiny run of seed 0 and of seed 1, each on its own, on one device: (results document, results path)."""
+    runs = []
+    for seed in (0, 1):
+        path = tmp_path_factory.mktemp(f"seed{seed}") / f"{TINY_TRAIN.name}.json"
+        runner.run(TINY_TRAIN, [seed], path, progress=False, tensorboard=False)
+        runs.append((results.read(path), path))
+    return runs
+
+
+def assert_same_numbers(document: dict, separate: list[dict]) -> None:
+    """`document`'s metrics and gait record are those of the `separate` documents, seed after seed, to the bit."""
+    assert document["metrics"].keys() == separate[0]["metrics"].keys()
+    together = {name: np.concatenate([np.array(one["metrics"][name], float) for one in separate], axis=1)
+                for name in document["metrics"]}  # [chunk][seed]
+    for name, rows in together.items():
+        np.testing.assert_array_equal(np.array(document["metrics"][name], float), rows, err_msg=name)
+    for name in ("contacts", "forward_velocity"):  # the gait record after training, per seed
+        assert document["gait"][name] == sum((one["gait"][name] for one in separate), [])
+
+
+def test_seeds_sharded_over_two_devices_give_the_numbers_of_one_device(tmp_path, alone):
     """Each device runs the one-device program of its seeds: 2 seeds on 2 devices are two one-seed runs."""
     done = _train(tmp_path / "sharded", 2, TWO_CPU_DEVICES)
     assert done.returncode == 0, done.stderr[-2000:]
     sharded = results.read(tmp_path / "sharded" / f"{TINY_TRAIN.name}.json")
     assert sharded["hardware"]["jax_devices"] == ["cpu:0", "cpu:1"]
-    alone = []
-    for seed in (0, 1):
-        path = tmp_path / f"seed{seed}" / f"{TINY_TRAIN.name}.json"
-        runner.run(TINY_TRAIN, [seed], path, progress=False, tensorboard=False)
-        alone.append(results.read(path))
-    assert alone[0]["hardware"]["jax_devices"] == ["cpu:0"]
-    assert sharded["metrics"].keys() == alone[0]["metrics"].keys()
-    together = {name: np.array([one["metrics"][name] for one in alone], float)[:, :, 0].T  # [chunk][seed]
-                for name in sharded["metrics"]}
-    for name, rows in together.items():
-        np.testing.assert_array_equal(np.array(sharded["metrics"][name], float), rows, err_msg=name)
-    for name in ("contacts", "forward_velocity"):  # the gait record after training, per seed
-        assert sharded["gait"][name] == alone[0]["gait"][name] + alone[1]["gait"][name]
+    assert alone[0][0]["hardware"]["jax_devices"] == ["cpu:0"]
+    assert_same_numbers(sharded, [document for document, _ in alone])
 
 
 def test_seeds_that_do_not_split_over_the_devices_are_refused_before_anything_compiles(tmp_path):
@@ -102,3 +113,58 @@ def test_a_sharded_carry_checkpoints_and_resumes_sharded(tmp_path):
     done = subprocess.run([sys.executable, "-c", code], env=TWO_CPU_DEVICES, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.split()[-3:] == ["1", "2", "True"]  # restored after chunk 1, on both devices, same next chunk
+
+
+LEARNING_RATE = "algo_params.learning_rate"
+
+
+def test_a_swept_run_equals_the_separate_runs_number_for_number(tmp_path, alone):
+    """Two learning rates in one program (the rate an array in the carry): each member is its separate run."""
+    rate = TINY_TRAIN.agent_config.learning_rate
+    documents = sweep.run(TINY_TRAIN, ((LEARNING_RATE, (rate, 3 * rate)),), [0], tmp_path / "sweep", progress=False,
+                          tensorboard=False)
+    other = tmp_path / "other" / f"{TINY_TRAIN.name}.json"
+    runner.run(sweep.with_values(TINY_TRAIN, [LEARNING_RATE], [3 * rate]), [0], other, progress=False,
+               tensorboard=False)
+    separate = [alone[0], (results.read(other), other)]
+    written = sorted((tmp_path / "sweep").glob("*.json"))
+    assert [path.name for path in written] == [f"{TINY_TRAIN.name}_learning_rate={rate:g}.json",
+                                               f"{TINY_TRAIN.name}_learning_rate={3 * rate:g}.json"]
+    for path, document, (own, own_path) in zip(written, documents, separate):
+        swept = results.read(path)
+        assert swept["sweep"] == {"fields": [LEARNING_RATE], "values": document["sweep"]["values"], "members": 2,
+                                  "vmapped": 1}
+        assert_same_numbers(swept, [own])
+        with np.load(path.with_suffix(".policy.npz")) as mine, np.load(own_path.with_suffix(".policy.npz")) as theirs:
+            assert sorted(mine.files) == sorted(theirs.files)
+            for name in mine.files:
+                if mine[name].dtype.kind == "f":
+                    np.testing.assert_array_equal(mine[name], theirs[name], err_msg=name)
+    # The swept value took effect: the members learned differently.
+    assert documents[0]["metrics"]["train/critic_loss"][-1] != documents[1]["metrics"]["train/critic_loss"][-1]
+
+
+def test_a_grid_whose_members_differ_in_shape_is_refused_naming_the_field():
+    with pytest.raises(ValueError, match=r"members differ in shape: algo_params.ensemble_size changes .*agent_state"):
+        sweep.Sweep(TINY_TRAIN, (("algo_params.ensemble_size", (2, 3)),), [0])
+    with pytest.raises(ValueError, match="cannot sweep algo_params.updates_per_step: the program needs it as a Python "
+                                         "number"):
+        sweep.Sweep(TINY_TRAIN, (("algo_params.updates_per_step", (1, 2)),), [0])
+    for bad, message in ((("robot", (1, 2)), "cannot sweep 'robot'"),
+                         (("algo_params.learning_rate", ("fast",)), "must be numbers"),
+                         (("task_params.speed", (1.0,)), "task 'forward' takes")):
+        with pytest.raises(ValueError, match=message):
+            sweep.members(TINY_TRAIN, (bad,))
+    assert sweep.parse_axis("task_params.target_velocity=0.3, 0.5") == ("task_params.target_velocity", (0.3, 0.5))
+    with pytest.raises(ValueError, match="must be numbers"):
+        sweep.parse_axis("task_params.target_velocity=0.3,fast")
+
+
+def test_the_sweep_command_refuses_a_bad_grid_before_compiling(tmp_path):
+    grid = tmp_path / "grid.json"
+    grid.write_text('{"algo_params.ensemble_size": [2, 3]}')
+    command = [sys.executable, "-m", "mjx_badger", "sweep", "--grid", str(grid), "--out", str(tmp_path / "out"),
+               "--quiet"]
+    done = subprocess.run(command, capture_output=True, text=True)
+    assert done.returncode == 2 and "members differ in shape: algo_params.ensemble_size" in done.stderr
+    assert "Traceback" not in done.stderr and not list((tmp_path / "out").iterdir())
