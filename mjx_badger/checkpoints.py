@@ -17,6 +17,8 @@ from pathlib import Path
 import jax
 import numpy as np
 
+from mjx_badger.cluster import wait_for_peers
+
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")
     import orbax.checkpoint as ocp
@@ -61,10 +63,13 @@ class Checkpoints:
         return stamp.exists() and json.loads(stamp.read_text()) == self.identity
 
     def save(self, chunks_done: int, carry) -> None:
-        if not self._same_run():
+        fresh = not self._same_run()
+        wait_for_peers()  # several processes (jax.distributed) share the folder: all look before one writes
+        if fresh and jax.process_index() == 0:
             self.remove()
             self.path.mkdir(parents=True)
             (self.path / "run.json").write_text(json.dumps(self.identity))
+        wait_for_peers()
         # Steps at or past this one are from a run that could not be resumed from them (unreadable,
         # or written by code whose carry differs): they go, or orbax refuses the step or keeps them as newest.
         for stale in [step for step in self.manager.all_steps() if step >= chunks_done]:
@@ -104,7 +109,9 @@ def save_agents(results_path: Path, agent_states) -> Path:
     stopped, e.g. on the robot.
     """
     path = agents_folder(results_path).absolute()
-    shutil.rmtree(path, ignore_errors=True)
+    if jax.process_index() == 0:
+        shutil.rmtree(path, ignore_errors=True)
+    wait_for_peers()
     with ocp.StandardCheckpointer() as checkpointer:
         checkpointer.save(path, _sized(jax.tree.leaves(agent_states)))
     return path

@@ -68,6 +68,33 @@ def _progress_bar() -> bool:
 
 
 @dataclasses.dataclass(frozen=True)
+class Cluster:
+    """Several processes, on one host or many, through jax.distributed; none of these: one process."""
+
+    coordinator: Optional[str] = None
+    """HOST:PORT of process 0, with --num-processes and --process-id (each process runs the same command)."""
+    num_processes: Optional[int] = None
+    process_id: Optional[int] = None
+    distributed: bool = False
+    """Join the cluster JAX detects by itself (Slurm, Open MPI, Cloud TPU)."""
+
+    def start(self) -> None:
+        """Join the cluster before JAX touches a device; ValueError for an incomplete address."""
+        if self.coordinator is None and not self.distributed:
+            if self.num_processes is not None or self.process_id is not None:
+                raise ValueError("--num-processes and --process-id need --coordinator HOST:PORT")
+            return
+        if self.coordinator is not None:
+            if self.num_processes is None or self.process_id is None:
+                raise ValueError("--coordinator needs --num-processes and --process-id")
+            if not 0 <= self.process_id < self.num_processes:
+                raise ValueError(f"--process-id must be in 0..{self.num_processes - 1}, not {self.process_id}")
+        from mjx_badger import cluster
+
+        cluster.join(self.coordinator, self.num_processes, self.process_id)
+
+
+@dataclasses.dataclass(frozen=True)
 class Train:
     """Train one configuration over many seeds in one vmapped program."""
 
@@ -83,10 +110,12 @@ class Train:
     """Start over, though an interrupted run of this configuration left a checkpoint to resume from."""
     tensorboard: bool = True
     """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
+    cluster: Annotated[Cluster, Flat] = Cluster()
 
     def check(self) -> None:
         if self.seeds <= 0:
             raise ValueError(f"--seeds must be a positive number, not {self.seeds}")
+        self.cluster.start()
         check_seed_devices(self.seeds)
         writable_dir(self.out, "output folder")
 
@@ -136,7 +165,7 @@ class Sweep:
 
         if self.seeds <= 0 or self.vmapped <= 0:
             raise ValueError(f"--seeds and --vmapped must be positive numbers, not {self.seeds} and {self.vmapped}")
-        sweep.members(self.run, self.axes())
+        sweep.check_groups(len(sweep.members(self.run, self.axes())), self.vmapped)
         writable_dir(self.out, "output folder")
 
     def __call__(self) -> int:
@@ -171,8 +200,10 @@ class Reproduce:
     """Rerun runs whose complete results exist, and start interrupted ones over instead of resuming them."""
     tensorboard: bool = True
     """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
+    cluster: Annotated[Cluster, Flat] = Cluster()
 
     def check(self) -> None:
+        self.cluster.start()
         check_seed_devices(PROFILES[self.profile].seeds)
         writable_dir(self.results_dir, "results folder")
         writable_dir(self.figures_dir, "figures folder")
@@ -485,7 +516,7 @@ def overall_progress(index: int, runs: int, done: float, total: float, elapsed_s
 
 
 def reproduce_command(args) -> int:
-    from mjx_badger import claims, plots, results, runner, tensorboard
+    from mjx_badger import claims, cluster, plots, results, runner, tensorboard
 
     profile = PROFILES[args.profile]
     folder = args.results_dir / args.profile / args.protocol
@@ -516,11 +547,15 @@ def reproduce_command(args) -> int:
         if twin is not None and not args.force:
             # Experiments share runs (CrossQ JT-NF forward is in two); a run is deterministic per seed.
             print(f"reuse {twin} for {path}: the same configuration and seeds")
+            if not cluster.writes():  # another process of a jax.distributed run copies it
+                continue
             results.write(path, results.read(twin))
             if tensorboard.folder(twin).is_dir():
                 shutil.copytree(tensorboard.folder(twin), tensorboard.folder(path), dirs_exist_ok=True)
             continue
         runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force, tensorboard=args.tensorboard)
+    if not cluster.writes():  # process 0 of a jax.distributed run draws and scores
+        return 0
     for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
         print(f"wrote {path}")
     from mjx_badger import render

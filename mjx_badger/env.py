@@ -116,7 +116,9 @@ class HB40Env(Env):
         self.observation_layout = observation_layout(self.action_space, self.protocol)
         self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd)
         robot.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg))
-        self.mjx_model = mjx.put_model(self.mj_model)
+        # On this process's own device: mjx's default, jax.devices()[0], is process 0's under jax.distributed.
+        local = jax.local_devices()[0]
+        self.mjx_model = mjx.put_model(self.mj_model, device=local)
         self._kp, self._kd = self.protocol.pd_gains(self.is_cpg)
         self._trunk = self.mj_model.body("trunk").id
         self._feet = np.array([self.mj_model.geom(name).id for name in spec.foot_geoms])
@@ -127,7 +129,7 @@ class HB40Env(Env):
         data.qpos[:] = robot.standing_qpos(self.mj_model, spec)
         data.ctrl[:] = self.action_space.rest_ctrl()
         mujoco.mj_forward(self.mj_model, data)
-        self._init_data = mjx.put_data(self.mj_model, data)
+        self._init_data = mjx.put_data(self.mj_model, data, device=local)
         self._nominal = jnp.asarray(robot.nominal_pose(spec))
         self._obs_scale = jnp.asarray(np.concatenate(
             [np.full(size, scale) for _, size, scale in self.observation_layout]).astype(np.float32))

@@ -14,6 +14,7 @@ from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from tqdm import tqdm
 
 from mjx_badger import checkpoints, policy, results
+from mjx_badger.cluster import agreed_max, gather, writes
 from mjx_badger import tensorboard as event_files
 from mjx_badger.train import TrainConfig, make_train
 
@@ -64,10 +65,13 @@ def compiled(trainer, seeds: list[int]):
         return carry, chunk, time.perf_counter() - t0
     # Each device runs the one-device program of its own seeds (the same HLO, so the same numbers as
     # one device running them); the carry and metrics are global arrays sharded on the seed axis. An
-    # SPMD program (jit or shard_map over the mesh) fuses differently and rounds differently.
+    # SPMD program (jit or shard_map over the mesh) fuses differently and rounds differently. With
+    # several processes (jax.distributed), each runs the programs of its own devices only.
     devices = list(sharding.mesh.devices.flat)
     local = len(seeds) // len(devices)
-    parts = [init(jax.device_put(keys[i * local:(i + 1) * local], device)) for i, device in enumerate(devices)]
+    mine = [(i, device) for i, device in enumerate(devices) if device.process_index == jax.process_index()]
+    parts = [init(jax.device_put(keys[i * local:(i + 1) * local], device)) for i, device in mine]
+    devices = [device for _, device in mine]
     program = jax.jit(seeds_chunk(trainer, local))
     t0 = time.perf_counter()
     programs = [program.lower(part, 0).compile() for part in parts]
@@ -89,8 +93,8 @@ def _per_device(tree, devices: list) -> list:
 
 def _sharded(parts: list, sharding: NamedSharding):
     """The per-device trees `parts` joined into global arrays split along the leading (seed) axis."""
-    def join(*leaves):
-        shape = (sum(leaf.shape[0] for leaf in leaves),) + leaves[0].shape[1:]
+    def join(*leaves):  # every device holds as many seeds; the other processes' devices too
+        shape = (leaves[0].shape[0] * sharding.mesh.size,) + leaves[0].shape[1:]
         return jax.make_array_from_single_device_arrays(shape, sharding, list(leaves))
 
     return jax.tree.map(join, *parts)
@@ -99,12 +103,21 @@ def _sharded(parts: list, sharding: NamedSharding):
 def measure(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
     """This machine's speed for `config`: a chunk of `steps` learning steps (updates from the first), timed
     after a first one; seed-steps/s and compile seconds (of the short program: a real run's is close)."""
-    short = dataclasses.replace(config, total_steps=2 * steps, chunk_steps=steps, warmup_steps=0, eval_steps=1)
-    carry, chunk, compile_s = compiled(make_train(short), seeds)
+    carry, chunk, compile_s = compiled(make_train(short_run(config, steps)), seeds)
+    return timed_chunk(carry, chunk, steps, len(seeds), compile_s)
+
+
+def short_run(config: TrainConfig, steps: int) -> TrainConfig:
+    """`config` cut to two chunks of `steps` learning steps, the shortest run worth timing."""
+    return dataclasses.replace(config, total_steps=2 * steps, chunk_steps=steps, warmup_steps=0, eval_steps=1)
+
+
+def timed_chunk(carry, chunk, steps: int, seed_count: int, compile_s: float) -> dict:
+    """Seed-steps/s of the second chunk of a compiled program (the first is untimed), and its compile seconds."""
     carry, _ = jax.block_until_ready(chunk(carry, 0))
     t0 = time.perf_counter()
     jax.block_until_ready(chunk(carry, steps))
-    return {"seed_steps_per_s": len(seeds) * steps / (time.perf_counter() - t0), "compile_s": compile_s}
+    return {"seed_steps_per_s": seed_count * steps / (time.perf_counter() - t0), "compile_s": compile_s}
 
 
 class Member(NamedTuple):
@@ -131,7 +144,7 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     member = Member(config, list(seeds), out_path, trainer.env)
     carry, (document,) = train_loop([member], carry, chunk, lambda carry, metrics: [(metrics, carry.diverged_at)],
                                     out_path, started, compile_s, progress, resume, tensorboard)
-    gait = jax.device_get(jax.jit(jax.vmap(trainer.gait))(carry))
+    gait = gather(jax.jit(jax.vmap(trainer.gait))(carry))
     return finish(member, document, gait, carry.agent_state)
 
 
@@ -168,11 +181,12 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
             documents = [_truncated(p, first) for p in previous]
             print(f"resuming {checkpoint_path.name} at step {first * config.chunk_steps} from {saved.path}",
                   file=sys.stderr)
-    events = [event_files.Writer(m.out_path, m.seeds, d) if tensorboard else None for m, d in zip(members, documents)]
+    events = [event_files.Writer(m.out_path, m.seeds, d) if tensorboard and writes() else None
+              for m, d in zip(members, documents)]
     seeds = sum(len(m.seeds) for m in members)
     label = f"{config.approach} {config.algo} {config.task} x{seeds}"
     bar = tqdm(total=config.num_chunks * config.chunk_steps, initial=first * config.chunk_steps, desc=label,
-               unit="step", file=sys.stderr, disable=not progress, dynamic_ncols=True, mininterval=2.0)
+               unit="step", file=sys.stderr, disable=not (progress and writes()), dynamic_ncols=True, mininterval=2.0)
     run_s = documents[0]["wall_clock"].get("run_s", 0.0)
     save_s = documents[0]["wall_clock"].get("checkpoint_s", 0.0)
     every, since_saved = 1, 0
@@ -180,7 +194,7 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
         start = index * config.chunk_steps
         t0 = time.perf_counter()
         carry, metrics = chunk(carry, start)
-        metrics = jax.device_get(metrics)
+        metrics = gather(metrics)
         chunk_s = time.perf_counter() - t0
         run_s += chunk_s
         steps = start + config.chunk_steps
@@ -191,12 +205,13 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
             for name, values in own.items():
                 document["metrics"].setdefault(name, []).append(np.asarray(values, dtype=float).round(5).tolist())
             document["complete"] = complete
-            note_divergence(document, jax.device_get(diverged_at), member.out_path)
+            note_divergence(document, gather(diverged_at), member.out_path)
             document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2),
                                           checkpoint_s=round(save_s, 2),
                                           seed_steps_per_s=round(steps * seeds / run_s, 1))
             document["hardware"] = results.hardware()
-            results.write(member.out_path, document)  # before the checkpoint: the file never runs behind it
+            if writes():  # before the checkpoint: the file never runs behind it
+                results.write(member.out_path, document)
             if writer is not None:
                 t0 = time.perf_counter()
                 writer.write(own, steps)
@@ -208,30 +223,35 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
             saved.save(index + 1, carry)
             took = time.perf_counter() - t0
             save_s += took
-            every, since_saved = checkpoints.interval(took, chunk_s), 0
+            took, slowest_chunk_s = agreed_max(took, chunk_s)  # all processes checkpoint on the same chunks
+            every, since_saved = checkpoints.interval(took, slowest_chunk_s), 0
         bar.update(config.chunk_steps)
         bar.set_postfix(progress_figures(views(carry, metrics)[0][0]))
     bar.close()
     for writer in events:
         if writer is not None:
             writer.close()
-    saved.remove()
+    if writes():
+        saved.remove()
     return carry, documents
 
 
 def finish(member: Member, document: dict, gait: dict, agent_states) -> dict:
     """The results file completed: the gait record, the saved policy and the agents beside it."""
     document["gait"] = gait_record(member, gait)
-    document["policy"] = save_policy(member, agent_states, document).name
-    document["agents"] = checkpoints.save_agents(member.out_path, agent_states).name
-    results.write(member.out_path, document)
+    document["agents"] = checkpoints.save_agents(member.out_path, agent_states).name  # every process: orbax's own
+    document["policy"] = policy.path_for(member.out_path).name
+    actor = gather((agent_states.actor_params, agent_states.actor_stats))  # every process takes part
+    if writes():
+        save_policy(member, actor, document)
+        results.write(member.out_path, document)
     return document
 
 
-def save_policy(member: Member, agent_states, document: dict) -> Path:
-    """Every seed's final actor beside the results file, in policy.py's NumPy format."""
+def save_policy(member: Member, actor: tuple, document: dict) -> Path:
+    """Every seed's final actor (parameters, statistics) beside the results file, in policy.py's NumPy format."""
     env = member.env
-    params, stats = jax.device_get((agent_states.actor_params, agent_states.actor_stats))
+    params, stats = actor
     meta = {"seeds": document["seeds"], "config": document["config"], "control_hz": env.control_hz,
             "observation_layout": [list(block) for block in env.observation_layout],
             "observation_size": env.observation_size, "action_size": env.action_size}

@@ -5,7 +5,7 @@ target_velocity`, `approach_params.min_cutoff`, ...) to several values; its memb
 combination. The swept values are arrays in the carry, not Python constants: the program is
 traced once with them as tracers (`make_train` of a config whose swept fields hold them) and
 compiled once for all members. Members go through `lax.map` in groups of `vmapped` (vmapped
-within a group; seeds are vmapped inside each member). With groups of one, every member runs
+within a group, which must divide the members; seeds are vmapped inside each member). With groups of one, every member runs
 the very program of its separate run, so the numbers equal the separate runs' to the bit; in
 bigger groups XLA batches the arithmetic differently and they agree only up to float rounding
 (a GPU's choice: members in parallel).
@@ -86,6 +86,15 @@ def members(base: TrainConfig, axes: tuple) -> list[TrainConfig]:
     return [with_values(base, fields, combo) for combo in itertools.product(*(values for _, values in axes))]
 
 
+def check_groups(members: int, vmapped: int) -> int:
+    """The group size: `vmapped` members at most; ValueError unless the groups are whole."""
+    size = min(vmapped, members)
+    if size < 1 or members % size:
+        raise ValueError(f"{members} members do not split into groups of {vmapped} (--vmapped): choose a divisor "
+                         f"of {members}")
+    return size
+
+
 def check_shapes(configs: list[TrainConfig], fields: list[str]) -> None:
     """ValueError naming the swept field and the array if two members' carries differ in shape or type."""
     shape = lambda config: jax.eval_shape(make_train(config).init, jax.random.PRNGKey(0))
@@ -111,9 +120,7 @@ class Sweep:
         self.fields = [field for field, _ in axes]
         self.configs = members(base, axes)
         self.seeds = list(seeds)
-        if vmapped < 1:
-            raise ValueError(f"members vmapped together must be at least 1, not {vmapped}")
-        self.vmapped = min(vmapped, len(self.configs))
+        self.vmapped = check_groups(len(self.configs), vmapped)
         self.values = jnp.asarray([[_value(c, f) for f in self.fields] for c in self.configs], jnp.float32)
         check_shapes(self.configs, self.fields)
         self._check_traceable(base)
@@ -126,8 +133,15 @@ class Sweep:
 
     def _over_members(self, body, values, *xs):
         """`body(member_values, *member_xs)` for every member: lax.map in groups of `vmapped`, in one program."""
-        batch = None if self.vmapped == 1 else self.vmapped
-        return jax.lax.map(lambda args: body(*args), (values, *xs), batch_size=batch)
+        args = (values, *xs)
+        if self.vmapped == 1:
+            return jax.lax.map(lambda member: body(*member), args)
+        # Groups by explicit reshapes (lax.map's batch_size reshapes with -1, which an empty MJX array refuses).
+        groups, size = len(self.configs) // self.vmapped, self.vmapped
+        split = lambda x: x.reshape((groups, size) + x.shape[1:])
+        join = lambda x: x.reshape((groups * size,) + x.shape[2:])
+        out = jax.lax.map(lambda group: jax.vmap(body)(*group), jax.tree.map(split, args))
+        return jax.tree.map(join, out)
 
     def _check_traceable(self, base: TrainConfig) -> None:
         """ValueError naming a swept field the program needs as a Python number (traced one field at a time)."""

@@ -53,8 +53,8 @@ REWARD_FORMS = ("thesis-text", "thesis-code")
 
 def fixed(command):
     """The same command every episode."""
-    command = jnp.asarray(command, dtype=jnp.float32)
-    return lambda state, key: (state, command)
+    # Made an array when traced: building a task must not start JAX's backend (jax.distributed comes first).
+    return lambda state, key: (state, jnp.asarray(command, dtype=jnp.float32))
 
 
 def _penalties(motion: Motion, squared_yaw: bool = True, energy: bool = True, yaw_target=0.0) -> dict:

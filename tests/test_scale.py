@@ -1,6 +1,7 @@
 """Scale out: seeds split over devices and sweeps in one program, both with the numbers of separate runs."""
 
 import os
+import socket
 import subprocess
 import sys
 
@@ -14,11 +15,15 @@ TWO_CPU_DEVICES = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_c
 
 
 def _train(out, seeds, env):
-    command = [sys.executable, "-m", "mjx_badger", "train", "--approach", TINY_TRAIN.approach, "--task",
+    return subprocess.run(_command(out, seeds), env=env, capture_output=True, text=True)
+
+
+def _command(out, seeds) -> list:
+    """`train` of the tiny run with `seeds` seeds into `out`, quiet, without event files."""
+    return [sys.executable, "-m", "mjx_badger", "train", "--approach", TINY_TRAIN.approach, "--task",
                TINY_TRAIN.task, "--total-steps", str(TINY_TRAIN.total_steps), "--chunk-steps",
                str(TINY_TRAIN.chunk_steps), "--warmup-steps", str(TINY_TRAIN.warmup_steps), "--eval-steps",
                str(TINY_TRAIN.eval_steps), "--seeds", str(seeds), "--out", str(out), "--quiet", "--no-tensorboard"]
-    return subprocess.run(command, env=env, capture_output=True, text=True)
 
 
 @pytest.fixture(scope="module")
@@ -51,6 +56,26 @@ def test_seeds_sharded_over_two_devices_give_the_numbers_of_one_device(tmp_path,
     assert sharded["hardware"]["jax_devices"] == ["cpu:0", "cpu:1"]
     assert alone[0][0]["hardware"]["jax_devices"] == ["cpu:0"]
     assert_same_numbers(sharded, [document for document, _ in alone])
+
+
+def test_two_processes_through_jax_distributed_give_the_numbers_of_one_device(tmp_path, alone):
+    """Two processes on this host (jax.distributed, one CPU device each): process 0 writes two one-seed runs."""
+    with socket.socket() as probe:  # a free port for the coordinator
+        probe.bind(("localhost", 0))
+        port = probe.getsockname()[1]
+    cluster = ["--coordinator", f"localhost:{port}", "--num-processes", "2", "--process-id"]
+    out = tmp_path / "cluster"
+    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
+    processes = [subprocess.Popen(_command(out, 2) + cluster + [str(i)], env=env, stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, text=True) for i in (0, 1)]
+    outputs = [process.communicate(timeout=900) for process in processes]
+    for process, (_, stderr) in zip(processes, outputs):
+        assert process.returncode == 0, stderr[-2000:]
+    together = results.read(out / f"{TINY_TRAIN.name}.json")
+    assert together["hardware"]["jax_devices"] == ["TFRT_CPU_0", "TFRT_CPU_2048"] or len(
+        together["hardware"]["jax_devices"]) == 2
+    assert_same_numbers(together, [document for document, _ in alone])
+    assert (out / f"{TINY_TRAIN.name}.policy.npz").exists() and (out / f"{TINY_TRAIN.name}.agents").is_dir()
 
 
 def test_seeds_that_do_not_split_over_the_devices_are_refused_before_anything_compiles(tmp_path):
@@ -168,3 +193,15 @@ def test_the_sweep_command_refuses_a_bad_grid_before_compiling(tmp_path):
     done = subprocess.run(command, capture_output=True, text=True)
     assert done.returncode == 2 and "members differ in shape: algo_params.ensemble_size" in done.stderr
     assert "Traceback" not in done.stderr and not list((tmp_path / "out").iterdir())
+
+
+def test_members_vmapped_together_each_get_their_own_values():
+    """With all members in one vmapped group, each member's environment runs at its own swept target velocity."""
+    targets = (0.25, 0.5, 0.75)
+    program = sweep.Sweep(TINY_TRAIN, (("task_params.target_velocity", targets),), [0, 1], vmapped=3)
+    carry, chunk, _ = program.compiled()
+    (values, state), metrics = chunk(carry, 0)
+    np.testing.assert_array_equal(np.asarray(values)[:, 0], np.float32(targets))
+    commanded = np.asarray(state.env_state.obs)[:, :, 48]  # [member][seed]: the observed target velocity
+    np.testing.assert_allclose(commanded, np.repeat(np.float32(targets)[:, None], 2, axis=1))
+    assert np.asarray(metrics["train/falls"]).shape == (3, 2)
