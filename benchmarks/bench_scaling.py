@@ -68,6 +68,7 @@ def plot_sweep(rows: list, path: Path, device: str) -> None:
         axis.set(xscale="log", xlabel="sweep members (1 seed each)", ylabel=label)
         ticks = sorted({r["members"] for r in rows})
         axis.set_xticks(ticks, [str(t) for t in ticks])
+        axis.minorticks_off()
         axis.legend(fontsize=8)
     left.set_title(device)
     right.set_title("compile time")
