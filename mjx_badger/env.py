@@ -116,8 +116,8 @@ class HB40Env(Env):
         self.observation_layout = observation_layout(self.action_space, self.protocol)
         self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd)
         robot.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg))
-        # On this process's own device: mjx's default, jax.devices()[0], is process 0's under jax.distributed.
-        local = jax.local_devices()[0]
+        # Under jax.distributed, on this process's own device: mjx's default, jax.devices()[0], is process 0's.
+        local = jax.local_devices()[0] if jax.process_count() > 1 else None
         self.mjx_model = mjx.put_model(self.mj_model, device=local)
         self._kp, self._kd = self.protocol.pd_gains(self.is_cpg)
         self._trunk = self.mj_model.body("trunk").id
