@@ -95,39 +95,51 @@ class Cluster:
 
 
 @dataclasses.dataclass(frozen=True)
-class Train:
-    """Train one configuration over many seeds in one vmapped program."""
+class Runs:
+    """What `train` and `sweep` share: the run, its seeds and where the results go."""
 
     run: Annotated[TrainConfig, Flat] = TrainConfig()
     seeds: int = 3
-    """Number of seeds, run in parallel."""
+    """Number of seeds, vmapped in one program (in a sweep: per member)."""
     first_seed: int = 0
     out: Path = Path("results")
-    """Folder for the results file."""
+    """Folder for the results files."""
     quiet: bool = False
     """No progress bar."""
     restart: bool = False
     """Start over, though an interrupted run of this configuration left a checkpoint to resume from."""
     tensorboard: bool = True
     """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
+
+    @property
+    def seed_list(self) -> list[int]:
+        return list(range(self.first_seed, self.first_seed + self.seeds))
+
+    def check_runs(self) -> None:
+        if self.seeds <= 0:
+            raise ValueError(f"--seeds must be a positive number, not {self.seeds}")
+        writable_dir(self.out, "output folder")
+
+
+@dataclasses.dataclass(frozen=True)
+class Train(Runs):
+    """Train one configuration over many seeds in one vmapped program."""
+
     cluster: Annotated[Cluster, Flat] = Cluster()
 
     def check(self) -> None:
-        if self.seeds <= 0:
-            raise ValueError(f"--seeds must be a positive number, not {self.seeds}")
+        self.check_runs()
         self.cluster.start()
         check_seed_devices(self.seeds)
-        writable_dir(self.out, "output folder")
 
     def __call__(self) -> int:
         from mjx_badger import runner
 
         config = self.run
-        seeds = list(range(self.first_seed, self.first_seed + self.seeds))
         out = self.out / f"{config.name}.json"
         print(f"protocol {config.protocol}, robot {config.robot}"
               + "".join(f", {k}={v!r}" for k, v in config.protocol_changes))
-        document = runner.run(config, seeds, out, progress=not self.quiet, resume=not self.restart,
+        document = runner.run(config, self.seed_list, out, progress=not self.quiet, resume=not self.restart,
                               tensorboard=self.tensorboard)
         print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
               f"compile {document['wall_clock']['compile_s']} s)")
@@ -135,25 +147,17 @@ class Train:
 
 
 @dataclasses.dataclass(frozen=True)
-class Sweep:
+class Sweep(Runs):
     """Train every combination of a grid of numeric parameters as one program; one results file per member."""
 
-    run: Annotated[TrainConfig, Flat] = TrainConfig()
+    out: Path = Path("results/sweep")
+    """Folder for the members' results files."""
     vary: Annotated[tuple[str, ...], tyro.conf.UseAppendAction] = ()
     """GROUP.NAME=V1,V2,... with GROUP approach_params, algo_params or task_params; repeat for a grid."""
     grid: Optional[Path] = None
     """A JSON file {"GROUP.NAME": [values], ...}, combined with any --vary."""
-    seeds: int = 3
-    """Seeds per member, vmapped inside it."""
-    first_seed: int = 0
     vmapped: int = 1
     """Members vmapped together: 1 gives each member's separate-run numbers to the bit; more is faster on a GPU."""
-    out: Path = Path("results/sweep")
-    """Folder for the members' results files."""
-    quiet: bool = False
-    restart: bool = False
-    """Start over, though an interrupted sweep left a checkpoint to resume from."""
-    tensorboard: bool = True
 
     def axes(self) -> tuple:
         from mjx_badger import sweep
@@ -163,17 +167,14 @@ class Sweep:
     def check(self) -> None:
         from mjx_badger import sweep
 
-        if self.seeds <= 0 or self.vmapped <= 0:
-            raise ValueError(f"--seeds and --vmapped must be positive numbers, not {self.seeds} and {self.vmapped}")
+        self.check_runs()
         sweep.check_groups(len(sweep.members(self.run, self.axes())), self.vmapped)
-        writable_dir(self.out, "output folder")
 
     def __call__(self) -> int:
         from mjx_badger import sweep
 
-        seeds = list(range(self.first_seed, self.first_seed + self.seeds))
         try:
-            documents = sweep.run(self.run, self.axes(), seeds, self.out, self.vmapped, progress=not self.quiet,
+            documents = sweep.run(self.run, self.axes(), self.seed_list, self.out, self.vmapped, progress=not self.quiet,
                                   resume=not self.restart, tensorboard=self.tensorboard)
         except ValueError as error:  # refused after building the members: shapes, or a field fixed when built
             print(f"error: {error}", file=sys.stderr)

@@ -88,8 +88,10 @@ def members(base: TrainConfig, axes: tuple) -> list[TrainConfig]:
 
 def check_groups(members: int, vmapped: int) -> int:
     """The group size: `vmapped` members at most; ValueError unless the groups are whole."""
+    if vmapped < 1:
+        raise ValueError(f"--vmapped must be at least 1, not {vmapped}")
     size = min(vmapped, members)
-    if size < 1 or members % size:
+    if members % size:
         raise ValueError(f"{members} members do not split into groups of {vmapped} (--vmapped): choose a divisor "
                          f"of {members}")
     return size
