@@ -58,6 +58,7 @@ def test_seeds_sharded_over_two_devices_give_the_numbers_of_one_device(tmp_path,
     assert_same_numbers(sharded, [document for document, _ in alone])
 
 
+@pytest.mark.slow  # minutes of compile: `make test-slow`
 def test_two_processes_through_jax_distributed_give_the_numbers_of_one_device(tmp_path, alone):
     """Two processes on this host (jax.distributed, one CPU device each): process 0 writes two one-seed runs."""
     with socket.socket() as probe:  # a free port for the coordinator
@@ -195,6 +196,7 @@ def test_the_sweep_command_refuses_a_bad_grid_before_compiling(tmp_path):
     assert "Traceback" not in done.stderr and not list((tmp_path / "out").iterdir())
 
 
+@pytest.mark.slow  # minutes of compile: `make test-slow`
 def test_members_vmapped_together_each_get_their_own_values():
     """With all members in one vmapped group, each member's environment runs at its own swept target velocity."""
     targets = (0.25, 0.5, 0.75)
