@@ -1,5 +1,10 @@
 """A policy on native MuJoCo walks as it does on MJX: same model, action pipeline, observation and fall rule."""
 
+from types import SimpleNamespace
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -30,3 +35,48 @@ def test_native_and_mjx_evaluations_agree(approach):
     assert abs(on_mjx["gait_hz"] - on_native["gait_hz"]) < GAIT_TOLERANCE_HZ
     # It is a walk, not a stand: the trunk moves and the feet step.
     assert abs(on_native["velocity_along_command"]) > 0.02 and on_native["gait_hz"] > 1.0
+
+
+class _Pipeline(NamedTuple):
+    qpos: jax.Array
+
+
+class _State(NamedTuple):
+    pipeline_state: _Pipeline
+    obs: jax.Array
+    info: dict
+
+
+class _FallingEnv:
+    """A stand-in for HB40Env whose trunk walks 1 cm per step along x and falls every 5th step; its own
+    reset draws a random command, as a task's does, unless it is given one."""
+
+    control_dt = 0.025
+    spec = SimpleNamespace(physics_dt=0.005)
+
+    def reset(self, key, command=None):
+        command = jax.random.uniform(key, (3,)) if command is None else command
+        return _State(_Pipeline(jnp.zeros(7).at[3].set(1.0)), command, {"terminated": jnp.array(False), "steps": 0})
+
+    def traced_step(self, state, action):
+        steps = state.info["steps"] + 1
+        fell = steps % 5 == 0
+        qpos = state.pipeline_state.qpos.at[0].add(0.01)
+        reset = self.reset(jax.random.PRNGKey(steps))  # the env's auto-reset: the task's own command
+        obs = jnp.where(fell, reset.obs, state.obs)
+        return _State(_Pipeline(qpos), obs, {"terminated": fell, "steps": steps}), (jnp.ones((5, 4)), None)
+
+
+def test_an_mjx_evaluation_restarts_under_its_own_command_after_a_fall():
+    seen = []
+
+    def act(obs):
+        seen.append(np.asarray(obs))
+        return np.zeros(12)
+
+    report = native.run_mjx(_FallingEnv(), act, [0.3, 0.0, 0.1], seconds=1.0)
+    assert report["falls"] == 40 // 5
+    # Every observation carries the evaluation's command, never one the env's auto-reset drew.
+    np.testing.assert_allclose(np.array(seen), np.tile([0.3, 0.0, 0.1], (40, 1)), atol=1e-7)
+    # The steps that fell are not counted as displacement: 32 of 40 steps moved 1 cm in 1 s.
+    assert report["velocity_along_command"] == pytest.approx(0.32, abs=1e-6)
