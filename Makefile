@@ -4,6 +4,8 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 PROFILE ?= quick
 PROTOCOL ?= thesis-code
+# Test files run in this many processes, a file's tests in one (they share its compiled functions).
+TEST_WORKERS ?= 2
 
 .PHONY: install test test-slow reproduce-figures figures benchmark bench-peers clean
 
@@ -16,10 +18,10 @@ $(VENV)/.installed: pyproject.toml requirements.lock
 install: $(VENV)/.installed
 
 test: install
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile
 
 test-slow: install
-	$(PY) -m pytest -q -m slow
+	$(PY) -m pytest -q -m slow -n $(TEST_WORKERS) --dist loadfile
 
 reproduce-figures: install
 	$(PY) -m mjx_badger reproduce --profile $(PROFILE) --protocol $(PROTOCOL)

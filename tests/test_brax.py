@@ -63,6 +63,7 @@ def _finite(tree):
     return all(bool(jnp.all(jnp.isfinite(leaf))) for leaf in jax.tree.leaves(tree))
 
 
+@pytest.mark.slow  # a learning program of its own: minutes of compile
 def test_brax_sac_trains_on_the_env(short_env):
     evaluations = []
     _, params, metrics = sac.train(
@@ -74,6 +75,7 @@ def test_brax_sac_trains_on_the_env(short_env):
     assert np.isfinite(metrics["eval/episode_reward"]) and _finite(params)
 
 
+@pytest.mark.slow  # a learning program of its own: minutes of compile
 def test_brax_ppo_trains_on_the_env(short_env):
     evaluations = []
     _, params, metrics = ppo.train(

@@ -109,6 +109,7 @@ def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
     assert f"about {expected_s / 3600:.1f} h for these 4 runs" in line
 
 
+@pytest.mark.slow  # a learning program of its own: minutes of compile
 def test_a_short_chunk_is_timed_on_this_machine():
     measured = runner.measure(TINY_TRAIN, [0, 1], steps=20)
     assert measured["seed_steps_per_s"] > 0 and measured["compile_s"] > 0

@@ -9,6 +9,7 @@ import sys
 import jax
 import jax.numpy as jnp
 import numpy as np
+import pytest
 
 from conftest import TINY_TRAIN, seed_keys
 from mjx_badger import evaluation, plots, policy, results, runner, tensorboard
@@ -53,6 +54,7 @@ def test_chunk_is_traced_once_and_same_seed_gives_same_numbers(train_fns):
             np.testing.assert_array_equal(a[name], b[name], err_msg=name)
 
 
+@pytest.mark.slow  # a learning program of its own: minutes of compile
 def test_whole_train_program_matches_chunked_runs(trainer, train_fns):
     """`train(key)` (all chunks in one scan) runs the same program as the host's chunk loop.
 
