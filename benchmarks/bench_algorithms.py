@@ -21,13 +21,21 @@ import numpy as np
 from bench_spine import chunk_program, timed, train_chunk, update_program, updates_per_s
 from mjx_badger import results
 from mjx_badger.agents import ALGORITHMS, make_agent
+from mjx_badger.train import TrainConfig
 
 OUT = Path(__file__).parent / "results" / "bench_algorithms.json"
 
 
+def training_config(algo):
+    """The agent a training run of `algo` builds under the default protocol, so that updates
+    timed alone are the updates the training chunk times (under thesis-code the UTD20
+    algorithms update their actor once per step, CrossQ every update)."""
+    return TrainConfig(algo=algo).agent_config
+
+
 def act_seconds(algo):
     """One stochastic policy inference for one observation, as the on-robot loop calls it."""
-    agent = make_agent(ALGORITHMS[algo](), 54, 12)
+    agent = make_agent(training_config(algo), 54, 12)
     state = agent.init(jax.random.PRNGKey(0))
     act = jax.jit(agent.act)
     obs = jnp.zeros(54)
@@ -40,7 +48,7 @@ def utd20_overhead(repeats=5):
     SAC-UTD20's networks, 1 seed, 200 updates each way, timed alternately in one process so
     drifts of this shared machine's speed hit both sides alike; returns both rates and the ratio.
     """
-    updates, args_u = update_program(1, "sac-utd20", updates=200)
+    updates, args_u = update_program(1, "sac-utd20", updates=200, cfg=training_config("sac-utd20"))
     _, chunk, args_c = chunk_program(1, chunk_steps=10, algo="sac-utd20")
     jax.block_until_ready(updates(*args_u))
     alone, training = [], []
@@ -66,8 +74,8 @@ def main():
     for algo in args.algos:
         cfg = ALGORITHMS[algo]()
         row = {"updates_per_step": cfg.updates_per_step, "control_hz": cfg.control_hz}
-        row["updates_per_s_1_seed"], _ = updates_per_s(1, algo)
-        _, row["updates_per_s_total_10_seeds"] = updates_per_s(10, algo)
+        row["updates_per_s_1_seed"], _ = updates_per_s(1, algo, cfg=training_config(algo))
+        _, row["updates_per_s_total_10_seeds"] = updates_per_s(10, algo, cfg=training_config(algo))
         chunk = 500 // cfg.updates_per_step
         for seeds in (1, 10):
             _, rate = train_chunk(seeds, chunk_steps=chunk, algo=algo)

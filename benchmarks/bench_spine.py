@@ -93,9 +93,9 @@ def update_program(seeds, algo="crossq", updates=200, cfg=None):
     return jax.jit(jax.vmap(run)), (keys, buffers)
 
 
-def updates_per_s(seeds, algo="crossq", updates=200):
+def updates_per_s(seeds, algo="crossq", updates=200, cfg=None):
     """Gradient updates per second per seed and in total, on a filled replay buffer."""
-    fn, args = update_program(seeds, algo, updates)
+    fn, args = update_program(seeds, algo, updates, cfg)
     seconds = timed(fn, *args)
     return updates / seconds, seeds * updates / seconds
 
