@@ -161,6 +161,12 @@ def forward_max_figure(experiment: Experiment, documents: dict, out: Path, profi
                            ("Forward locomotion at maximal velocity, CrossQ", f"velocities (m/s) {thesis}"))
 
 
+def omni_thesis_note(numbers: dict) -> str:
+    """One approach's thesis numbers for an omni figure's title: its finding, desired MAE and falls."""
+    parts = [numbers.get("finding"), f"MAE ~{numbers['desired_mae']}" if "desired_mae" in numbers else None]
+    return ", ".join(part for part in parts if part) + f" ({numbers['falls']} falls)"
+
+
 def omni_figure(experiment: Experiment, documents: dict, out: Path, profile: str) -> Path:
     """Fig 5.9 / 5.12-style: velocity along the command, evaluation errors, falls (and curriculum progress)."""
     panels = [("train/desired_velocity", "velocity along the command (training)", "[m/s]"),
@@ -169,8 +175,7 @@ def omni_figure(experiment: Experiment, documents: dict, out: Path, profile: str
               ("train/falls", "falls during training (cumulative)", "falls")]
     if any("curriculum/learned_bins" in d["metrics"] for d in documents.values()):
         panels.append(("curriculum/learned_bins", "curriculum: bins learned (of 10)", "bins"))
-    note = "; ".join(f"{display_name(a)}: {n.get('finding', '')}{', MAE ~%s' % n['desired_mae'] if 'desired_mae' in n else ''}"
-                     f" ({n['falls']} falls)" for a, n in experiment.thesis_numbers.items())
+    note = "; ".join(f"{display_name(a)}: {omni_thesis_note(n)}" for a, n in experiment.thesis_numbers.items())
     title = ("Omnidirectional locomotion, random commands" if experiment.name == "omni-random"
              else "Omnidirectional locomotion with the PDEC curriculum")
     return learning_curves(experiment, documents, out, profile, "steps", tuple(panels), (title, note))

@@ -1,4 +1,4 @@
-"""Figures' own arithmetic: the gait frequency read off contact records."""
+"""Figures' own arithmetic: the gait frequency read off contact records, the thesis notes in titles."""
 
 import numpy as np
 import pytest
@@ -46,3 +46,10 @@ def test_every_experiment_declares_figures_and_a_table_that_exist():
         assert set(experiment.figures) <= set(plots.FIGURES), experiment.name
         assert experiment.table in tables.TABLES and experiment.x_axis in ("steps", "minutes"), experiment.name
         assert ("versus" in experiment.figures) == (experiment.baseline in EXPERIMENTS), experiment.name
+
+
+def test_an_omni_titles_thesis_note_leaves_no_empty_finding():
+    from mjx_badger.plots import omni_thesis_note
+
+    assert omni_thesis_note({"falls": 0, "desired_mae": 0.05}) == "MAE ~0.05 (0 falls)"
+    assert omni_thesis_note({"falls": "~30", "finding": "stands still"}) == "stands still (~30 falls)"
