@@ -74,8 +74,9 @@ def main():
     for algo in args.algos:
         cfg = ALGORITHMS[algo]()
         row = {"updates_per_step": cfg.updates_per_step, "control_hz": cfg.control_hz}
-        row["updates_per_s_1_seed"], _ = updates_per_s(1, algo, cfg=training_config(algo))
-        _, row["updates_per_s_total_10_seeds"] = updates_per_s(10, algo, cfg=training_config(algo))
+        agent = training_config(algo)
+        row["updates_per_s_1_seed"], _ = updates_per_s(1, algo, cfg=agent)
+        _, row["updates_per_s_total_10_seeds"] = updates_per_s(10, algo, cfg=agent)
         chunk = 500 // cfg.updates_per_step
         for seeds in (1, 10):
             _, rate = train_chunk(seeds, chunk_steps=chunk, algo=algo)
