@@ -111,6 +111,9 @@ def summarize(document: dict, target: float | None) -> dict:
         "falls_min": float(falls.min()),
         "falls_max": float(falls.max()),
         "falls_after_warmup_mean": float((falls - falls_in_warmup).mean()),
+        # Every termination from step 0, whatever the protocol counts (files before it have none).
+        "falls_total_mean": float(series(document, "train/falls_total")[-1].mean())
+        if "train/falls_total" in metrics else None,
         "gait_hz": float(np.nanmean(frequencies)) if frequencies and not np.all(np.isnan(frequencies)) else None,
         "seeds": len(document["seeds"]),
         "complete": document["complete"],

@@ -34,6 +34,9 @@ class Swap:
     """Ids of the claims (claims.py) this departure may move."""
     robot: str = "hb40"
     """The robot of the swapped runs (robot.ROBOTS); the baselines run on the HB40."""
+    counted_as: str | None = None
+    """For fields that change what is counted, not the run: the summary figure giving the swapped
+    value from the baseline runs themselves, so the swap trains nothing."""
 
     @property
     def changes(self) -> tuple:
@@ -53,6 +56,8 @@ SWAPS = (
          ("jt-falls",), robot="hb40-v1"),
     Swap("termination rule", "thesis-code", ("termination",), "forward", ("jt-nf", "jt-oef", "jt-lpf"),
          ("falls_mean",), ("jt-falls",)),
+    Swap("fall counting", "thesis-code", ("falls_after_warmup",), "forward", ("jt-nf", "jt-oef", "jt-lpf"),
+         ("falls_mean",), ("jt-falls",), counted_as="falls_total_mean"),
     Swap("CPG terminates", "thesis-code", ("cpg_terminates",), "forward", ("cpg-d", "cpg-vf", "cpg-rt"),
          ("falls_mean",), ("cpg-never-falls",)),
     Swap("low-pass filter", "thesis-code", ("lowpass",), "forward", ("jt-lpf",),
@@ -97,7 +102,7 @@ def planned(results_dir: Path, swaps: tuple = SWAPS):
     seen = set()
     for swap in swaps:
         for run in swap.runs():
-            for baseline in (True, False):
+            for baseline in (True,) if swap.counted_as else (True, False):
                 where = folder(results_dir, None if baseline else swap, swap.base)
                 path = where / swap.experiment / result_name(run)
                 if path not in seen:
@@ -119,7 +124,7 @@ def _words(value, measure: str) -> str:
         return {"steps_to_target": "never", "gait_hz": "no gait"}.get(measure, "-")
     if measure == "steps_to_target":
         return f"{value / 1000:.0f}k steps"
-    if measure == "falls_mean":
+    if measure in ("falls_mean", "falls_total_mean"):
         return f"{value:.1f} falls"
     if measure == "gait_hz":
         return f"{value:.1f} Hz"
@@ -137,11 +142,13 @@ def table(results_dir: Path) -> str:
     for swap in SWAPS:
         for run in swap.runs():
             base_path = folder(results_dir, None, swap.base) / swap.experiment / result_name(run)
-            swapped_path = folder(results_dir, swap, swap.base) / swap.experiment / result_name(run)
+            swapped_path = base_path if swap.counted_as else (
+                folder(results_dir, swap, swap.base) / swap.experiment / result_name(run))
             if not swapped_path.exists() or not results.read(swapped_path)["complete"]:
                 continue  # not run yet, or still running
-            cells = ["; ".join(_words(_figure(path, swap, measure), measure) for measure in swap.measures)
-                     for path in (base_path, swapped_path)]
+            swapped_measures = (swap.counted_as,) if swap.counted_as else swap.measures
+            cells = ["; ".join(_words(_figure(path, swap, measure), measure) for measure in measures)
+                     for path, measures in ((base_path, swap.measures), (swapped_path, swapped_measures))]
             lines.append(f"| {swap.name} ({swap.describe()}) | {swap.experiment} {run.approach} "
                          f"| {cells[0]} | {cells[1]} | {', '.join(swap.claims)} |")
     return "\n".join(lines) + "\n"

@@ -85,3 +85,23 @@ def test_a_swap_still_running_is_left_out_of_the_table(tmp_path):
     path.parent.mkdir(parents=True)
     path.write_text(json.dumps({"schema": results.SCHEMA, "complete": False, "steps": [1000], "metrics": {}}))
     assert "action delay" not in attribution.table(tmp_path)
+
+
+def test_fall_counting_trains_nothing_and_reads_the_baselines_count_from_step_0(tmp_path):
+    import json
+
+    from mjx_badger import results
+
+    swap = attribution.SWAPS_BY_NAME["fall counting"]
+    paths = [path for *_, path in attribution.planned(tmp_path, (swap,))]
+    assert paths and all("baseline" in path.parts for path in paths)  # counting alone does not change a run
+    run = swap.runs()[0]
+    path = attribution.folder(tmp_path, None, swap.base) / swap.experiment / attribution.result_name(run)
+    path.parent.mkdir(parents=True)
+    document = {"schema": results.SCHEMA, "config": {"warmup_steps": 1000}, "seeds": [0, 1],
+                "complete": True, "steps": [1000, 2000], "sim_minutes": [0.3, 0.7],
+                "metrics": {"train/falls": [[0, 0], [1.0, 3.0]], "train/falls_total": [[4, 2], [5.0, 9.0]],
+                            "train/forward_velocity": [[0.0, 0.0], [0.1, 0.1]]}}
+    path.write_text(json.dumps(document))
+    row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| fall counting")]
+    assert row and "falls_after_warmup=False" in row[0] and "| 2.0 falls | 7.0 falls |" in row[0]
