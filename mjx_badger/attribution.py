@@ -75,7 +75,7 @@ SWAPS = (
          ("jt-nf", "jt-oef"), ("steps_to_target", "falls_mean"), ("jt-convergence", "jt-falls")),
     Swap("CrossQ details", "thesis-code",
          ("crossq_policy_delay", "crossq_renorm_warmup", "crossq_actor_renorm", "target_entropy"), "forward",
-         ("jt-nf",), ("steps_to_target",), ("jt-convergence",)),
+         ("jt-nf",), ("steps_to_target",), ("jt-convergence", "crossq-first")),
     Swap("reward forms", "thesis-code", ("rewards",), "omni-random", ("cpg-d", "cpg-vf"),
          ("eval/desired_mae", "eval/yaw_mae"), ("omni-cpg-vf-best",)),
     Swap("curriculum rules", "thesis-code", ("curriculum",), "omni-pdec", ("cpg-vf",), ("eval/desired_mae",),
