@@ -114,6 +114,9 @@ def summarize(document: dict, target: float | None) -> dict:
         # Every termination from step 0, whatever the protocol counts (files before it have none).
         "falls_total_mean": float(series(document, "train/falls_total")[-1].mean())
         if "train/falls_total" in metrics else None,
+        # Times the JT termination rule started firing, whether or not the protocol ended the episode.
+        "would_falls_mean": float(series(document, "train/would_falls")[-1].mean())
+        if "train/would_falls" in metrics else None,
         "gait_hz": float(np.nanmean(frequencies)) if frequencies and not np.all(np.isnan(frequencies)) else None,
         "seeds": len(document["seeds"]),
         "complete": document["complete"],

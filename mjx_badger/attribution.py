@@ -60,6 +60,11 @@ SWAPS = (
          ("falls_mean",), ("jt-falls",), counted_as="falls_total_mean"),
     Swap("CPG terminates", "thesis-code", ("cpg_terminates",), "forward", ("cpg-d", "cpg-vf", "cpg-rt"),
          ("falls_mean",), ("cpg-never-falls",)),
+    # CPG episodes never end under thesis-code, so these read the falls its rule would have counted.
+    Swap("CPG action on joint angles, falls", "thesis-code", ("cpg_action",), "forward", ("cpg-d", "cpg-vf"),
+         ("would_falls_mean",), ("cpg-never-falls",)),
+    Swap("action delay, CPG falls", "thesis-code", ("action_delay",), "forward", ("cpg-vf",),
+         ("would_falls_mean",), ("cpg-never-falls",)),
     Swap("low-pass filter", "thesis-code", ("lowpass",), "forward", ("jt-lpf",),
          ("steps_to_target", "gait_hz"), ("jt-convergence", "jt-gait-order")),
     Swap("JT gains and rate", "thesis-code", ("jt_pd_gains", "jt_control_hz"), "forward", ("jt-nf", "jt-oef"),
@@ -126,6 +131,8 @@ def _words(value, measure: str) -> str:
         return f"{value / 1000:.0f}k steps"
     if measure in ("falls_mean", "falls_total_mean"):
         return f"{value:.1f} falls"
+    if measure == "would_falls_mean":
+        return f"{value:.1f} would-be falls"
     if measure == "gait_hz":
         return f"{value:.1f} Hz"
     if measure == "eval/desired_mae":

@@ -105,3 +105,22 @@ def test_fall_counting_trains_nothing_and_reads_the_baselines_count_from_step_0(
     path.write_text(json.dumps(document))
     row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| fall counting")]
     assert row and "falls_after_warmup=False" in row[0] and "| 2.0 falls | 7.0 falls |" in row[0]
+
+
+def test_cpg_fall_swaps_read_the_falls_the_rule_would_have_counted(tmp_path):
+    import json
+
+    from mjx_badger import results
+
+    swap = attribution.SWAPS_BY_NAME["action delay, CPG falls"]
+    run = swap.runs()[0]
+    for where, would in ((None, [0.0, 0.0]), (swap, [3.0, 5.0])):
+        path = attribution.folder(tmp_path, where, swap.base) / swap.experiment / attribution.result_name(run)
+        path.parent.mkdir(parents=True)
+        document = {"schema": results.SCHEMA, "config": {"warmup_steps": 1000}, "seeds": [0, 1],
+                    "complete": True, "steps": [1000, 2000], "sim_minutes": [0.3, 0.7],
+                    "metrics": {"train/falls": [[0, 0], [0, 0]], "train/would_falls": [[0, 0], would],
+                                "train/forward_velocity": [[0.0, 0.0], [0.1, 0.1]]}}
+        path.write_text(json.dumps(document))
+    row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| action delay, CPG")]
+    assert row and "| 0.0 would-be falls | 4.0 would-be falls |" in row[0]
