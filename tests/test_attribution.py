@@ -124,3 +124,26 @@ def test_cpg_fall_swaps_read_the_falls_the_rule_would_have_counted(tmp_path):
         path.write_text(json.dumps(document))
     row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| action delay, CPG")]
     assert row and "| 0.0 would-be falls | 4.0 would-be falls |" in row[0]
+
+
+def test_a_swap_of_another_algorithm_runs_it_and_names_it_in_the_table(tmp_path):
+    import json
+
+    from mjx_badger import results
+
+    swap = attribution.SWAPS_BY_NAME["JT gains and rate, DroQ"]
+    (run,) = swap.runs()
+    assert run.algo == "droq"
+    configs = [config for _, _, config, _ in attribution.planned(tmp_path, (swap,))]
+    assert {config.algo for config in configs} == {"droq"} and len(configs) == 2
+    for where, minutes in ((None, [0.3, 0.7]), (swap, [0.5, 1.2])):
+        path = attribution.folder(tmp_path, where, swap.base) / swap.experiment / attribution.result_name(run)
+        path.parent.mkdir(parents=True)
+        document = {"schema": results.SCHEMA, "config": {"warmup_steps": 1000}, "seeds": [0, 1],
+                    "complete": True, "steps": [1000, 2000], "sim_minutes": minutes,
+                    "metrics": {"train/falls": [[0, 0], [2.0, 4.0]],
+                                "train/forward_velocity": [[0.0, 0.0], [0.5, 0.5]]}}
+        path.write_text(json.dumps(document))
+    row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| JT gains and rate, DroQ")]
+    assert row and "| algo-comparison jt-nf droq |" in row[0]
+    assert "| 0.7 simulated min; 3.0 falls | 1.2 simulated min; 3.0 falls |" in row[0]

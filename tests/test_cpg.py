@@ -169,6 +169,16 @@ def test_thesis_code_cpg_adds_the_action_to_joint_angles_after_ik():
     assert np.abs(np.asarray(text_ctrl) - ctrl).max() > 0.1
 
 
+def test_the_code_reads_swing_heights_before_advancing_the_phase():
+    """cpg_heights_before_advance: the code's first step stands (heights of phase 0), the text's already lifts a pair."""
+    for before, lifts in ((True, False), (False, True)):
+        space = actions.make_action_space("cpg-d", 0.025, CODE.replace(cpg_heights_before_advance=before))
+        state, ctrl = space.step(space.init(), jnp.zeros(12))
+        assert (np.abs(np.asarray(state.heights)).max() > 1e-4) == lifts, before
+        stance = np.asarray(kinematics.thesis_code_ik(actions.THESIS_CODE_STANCE)).reshape(-1)
+        assert np.allclose(ctrl, stance, atol=1e-6) != lifts, before
+
+
 def test_thesis_code_residual_cpg_folds_the_d_term_bug_into_one_pd_target():
     """tau = [60 (t - q) - 3 qdot + 60 (n + r - q) + 3 (a - qdot)] / 2 = 60 (ctrl - q) - 3 qdot."""
     space = actions.make_action_space("cpg-rt", 0.025, CODE)
