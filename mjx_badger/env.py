@@ -223,7 +223,8 @@ class HB40Env(Env):
 
         power_steps = jnp.where(jnp.sum(jnp.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W,
                                 info["power_steps"] + 1, 0)
-        fallen = self._fall_rule(data, motion, power_steps) | ~finite
+        # The rule on a finite state only: a blow-up is counted in `blowups`, not as a (would-be) fall.
+        fallen = self._fall_rule(data, motion, power_steps) & finite
         terminated = (fallen if self.terminates else jnp.bool_(False)) | ~finite
         step = info["step"] + 1
         truncated = (step >= self.episode_steps) & ~terminated

@@ -1,7 +1,7 @@
 """Results files: one JSON document per training run, rewritten after every chunk.
 
-Schema `mjx_badger.results/1`:
-    schema        "mjx_badger.results/1"
+Schema `mjx_badger.results/2` (files of schema 1 are read into it: `upgrade`):
+    schema        "mjx_badger.results/2"
     config        the TrainConfig, with its resolved env and agent settings: config.protocol is
                   "thesis-code" or "thesis-text", config.protocol_changes the one-factor swaps
                   as [field, value] pairs, config.env.protocol every protocol field
@@ -14,8 +14,9 @@ Schema `mjx_badger.results/1`:
                   that schema are read into it: `upgrade`)
                   (e.g. train/episode_return in a chunk where no episode ended); falls are
                   cumulative: train/falls as the protocol counts them, train/falls_total every
-                  termination, train/would_falls the times the termination rule started firing
-                  (CPG under thesis-code never terminates), train/blowups non-finite physics states
+                  termination, train/would_falls the times the termination rule started firing on a
+                  finite state (CPG under thesis-code never terminates), train/blowups non-finite
+                  physics states (schema 1 counted a blow-up as a would-be fall too)
     diverged_at_step  per seed: null, or the step at whose chunk end its agent or metrics went
                   non-finite; the seed was frozen there (its metrics are null from then) while the
                   others went on, and figures, tables and claims leave it out (`healthy`)
@@ -43,7 +44,8 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
-SCHEMA = "mjx_badger.results/1"
+SCHEMA = "mjx_badger.results/2"
+OLDER_SCHEMAS = ("mjx_badger.results/1",)
 PACKAGES = ("jax", "jaxlib", "mujoco", "mujoco-mjx", "brax", "flax", "optax", "numpy")
 
 
@@ -135,16 +137,24 @@ def write(path: Path, document: dict) -> None:
 def read(path: Path, leave_out_diverged: bool = False) -> dict:
     """The results document at `path` in today's schema, its diverged seeds left out if asked (`healthy`)."""
     document = json.loads(Path(path).read_text())
-    if document.get("schema") != SCHEMA:
+    if document.get("schema") not in (SCHEMA, *OLDER_SCHEMAS):
         raise ValueError(f"{path}: not a {SCHEMA} results file")
     document = upgrade(document)
     return healthy(document) if leave_out_diverged else document
 
 
 def upgrade(document: dict) -> dict:
-    """A document in today's evaluation schema: older files named the one forward run's desired
-    velocity eval/forward_velocity and kept no means of the omni runs' velocities."""
+    """A document in today's schema: older files named the one forward run's desired velocity
+    eval/forward_velocity and kept no means of the omni runs' velocities, and schema 1 counted
+    every blow-up as a would-be fall too."""
     metrics = document.get("metrics", {})
+    if document.get("schema") in OLDER_SCHEMAS and "train/would_falls" in metrics and "train/blowups" in metrics:
+        # A schema-1 blow-up added one would-be fall unless the rule was already firing (then none), so
+        # this is exact where episodes end on a fall or nothing blew up, and a lower bound otherwise.
+        metrics["train/would_falls"] = [
+            [None if w is None or b is None else max(w - b, 0.0) for w, b in zip(would, blowups)]
+            for would, blowups in zip(metrics["train/would_falls"], metrics["train/blowups"])]
+    document["schema"] = SCHEMA
     if "eval/forward_velocity" in metrics and "eval/desired_velocity" not in metrics:
         metrics["eval/desired_velocity"] = metrics.pop("eval/forward_velocity")
     for name in ("desired_velocity", "lateral_velocity", "yaw_rate"):

@@ -276,5 +276,6 @@ def test_a_physics_blowup_ends_the_episode_without_nans_and_is_not_a_fall(env, e
     broken = state.pipeline_state.replace(qvel=state.pipeline_state.qvel.at[0].set(jnp.nan))
     state = step(state.replace(pipeline_state=broken), jnp.zeros(12))
     assert bool(state.info["terminated"]) and int(state.info["blowups"]) == 1 and int(state.info["falls"]) == 0
+    assert int(state.info["would_falls"]) == 0  # nor a would-be fall: the rule is read on finite states only
     assert np.isfinite(np.asarray(state.info["next_obs"])).all() and np.isfinite(float(state.reward))
     assert np.isfinite(np.asarray(state.obs)).all() and int(state.info["step"]) == 0  # a fresh episode

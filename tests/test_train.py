@@ -235,6 +235,16 @@ def test_results_of_the_older_evaluation_schema_are_read_into_todays():
     assert upgraded[1]["eval/desired_velocity"][0][1] is None  # a missing run leaves the mean undefined
 
 
+def test_schema_1_would_be_falls_are_read_without_its_blowups():
+    """Schema 1 counted a blow-up as a would-be fall: 5 would-be with 4 blow-ups is 1 rule firing."""
+    old = {"schema": "mjx_badger.results/1",
+           "metrics": {"train/would_falls": [[0, 2], [5, 3]], "train/blowups": [[0, 1], [4, 1]]}}
+    upgraded = results.upgrade(json.loads(json.dumps(old)))
+    assert upgraded["metrics"]["train/would_falls"] == [[0, 1], [1, 2]] and upgraded["schema"] == results.SCHEMA
+    today = {"schema": results.SCHEMA, "metrics": {"train/would_falls": [[5]], "train/blowups": [[4]]}}
+    assert results.upgrade(today)["metrics"]["train/would_falls"] == [[5]]
+
+
 def test_a_diverging_seed_is_frozen_and_marked_while_the_others_go_on(train_fns):
     """A NaN put into seed 1's actor freezes seed 1 at its carry from before the chunk; seed 0 trains on."""
     init, chunk, _ = train_fns
