@@ -9,7 +9,7 @@ import pytest
 import scipy.signal
 
 from conftest import seed_keys
-from mjx_badger import actions, filters, protocols, tasks
+from mjx_badger import actions, curriculum, filters, protocols, tasks
 from mjx_badger.agents import make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env, observation_layout
@@ -144,6 +144,48 @@ def test_rewards_take_the_codes_forms():
     omni = tasks.make_task("omni-random", "thesis-code")
     heavy = tasks.Motion(jnp.array([0.5, 0.0, 0.0]), jnp.array([0.0, 0.0, 0.2]), 0.0, 0.0, jnp.full(12, 10.0))
     assert float(omni.reward(heavy, cmd)[0]) == pytest.approx(10 * (1 - 0.5 * 0.2), abs=1e-5)
+
+
+def test_the_env_takes_its_reward_forms_curriculum_and_cpg_termination_from_the_protocol():
+    cmd, fast = jnp.array([0.5, 0.0, 0.0]), tasks.Motion(jnp.array([1.1, 0.0, 0.0]), jnp.zeros(3), 0.0, 0.0, jnp.zeros(12))
+    rewards = {form: float(HB40Env("jt-nf", "forward", EnvConfig(protocol=CODE.replace(rewards=form)))
+                     .task.reward(fast, cmd)[0]) for form in ("thesis-code", "thesis-text")}
+    assert rewards == pytest.approx({"thesis-code": 4.0, "thesis-text": 9.0}, abs=1e-5)  # as in the test above
+    state = curriculum.init()._replace(learned=jnp.array([2, 2], jnp.int32))
+    speeds = {}
+    for rules in ("thesis-code", "thesis-text"):
+        task = HB40Env("cpg-d", "omni-pdec", EnvConfig(protocol=CODE.replace(curriculum=rules))).task
+        speeds[rules] = {round(float(jnp.linalg.norm(task.command(state, k)[1][:2])), 4)
+                         for k in jax.random.split(jax.random.PRNGKey(3), 20)}
+    assert len(speeds["thesis-code"]) > 2 and speeds["thesis-text"] == {0.25}
+    for protocol, cpg_ends in ((CODE, False), (TEXT, True), (CODE.replace(cpg_terminates=True), True)):
+        assert HB40Env("cpg-d", "forward", EnvConfig(protocol=protocol)).terminates == cpg_ends
+        assert HB40Env("jt-nf", "forward", EnvConfig(protocol=protocol)).terminates
+
+
+def test_the_renorm_warmup_reaches_the_networks():
+    """Past its warm-up batch renorm corrects by r and d, so a 1-update warm-up changes the third update."""
+    losses = {}
+    for warmup in (1, 1000):
+        cfg = TrainConfig(algo="crossq", protocol_changes=(("crossq_renorm_warmup", warmup),)).agent_config
+        agent = make_agent(cfg.replace(hidden=(8,)), 4, 2)
+        update = jax.jit(agent.update)
+        state = agent.init(jax.random.PRNGKey(0))
+        for i in range(3):
+            batch = _batch()
+            batch = batch._replace(obs=batch.obs * (1 + 2 * i) + 3 * i, next_obs=batch.next_obs + 3 * i)
+            state, metrics = update(state, batch, jax.random.PRNGKey(i), i)
+            losses.setdefault(warmup, []).append(float(metrics["critic_loss"]))
+    assert losses[1][0] == pytest.approx(losses[1000][0], rel=1e-6)  # the first update is inside both warm-ups
+    assert abs(losses[1][2] - losses[1000][2]) > 1e-4 * abs(losses[1000][2])
+
+
+def test_the_observed_acceleration_is_the_codes_qacc_or_the_texts_accelerometer(env, env_fns):
+    """At reset the robot drops from 0.316 m: qacc reads free fall (-9.81 m/s^2 up), an accelerometer 0."""
+    code = env_fns[0](jax.random.PRNGKey(0)).obs[36:39]
+    text = jax.jit(HB40Env("jt-nf", "forward", EnvConfig(protocol=TEXT)).reset)(jax.random.PRNGKey(0)).obs[36:39]
+    np.testing.assert_allclose(code, [0.0, 0.0, -9.81], atol=1e-4)
+    np.testing.assert_allclose(text, [0.0, 0.0, 0.0], atol=1e-4)
 
 
 def test_observation_scales_follow_the_protocol():

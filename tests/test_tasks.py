@@ -189,9 +189,13 @@ def test_progress_metrics_count_bins_per_half():
 
 
 def test_the_protocols_choose_the_curriculum_rules():
-    code, text = tasks.make_task("omni-pdec", "thesis-code"), tasks.make_task("omni-pdec", "thesis-text", "thesis-code")
+    # The rules argument, not the reward form, picks the rules.
+    code, text = (tasks.make_task("omni-pdec", "thesis-text", "thesis-code"),
+                  tasks.make_task("omni-pdec", "thesis-code", "thesis-text"))
     state = _state(2, 2)
     key = jax.random.PRNGKey(3)
     speeds = [float(jnp.linalg.norm(t.command(state, k)[1][:2])) for t in (code, text)
               for k in jax.random.split(key, 20)]
-    assert len(set(np.round(speeds, 4))) > 2  # both draw random learned-region speeds
+    code_speeds, text_speeds = set(np.round(speeds[:20], 4)), set(np.round(speeds[20:], 4))
+    assert len(code_speeds) > 2  # the code's learned-region speeds: U(0.1, 0.25) or 0
+    assert text_speeds == {0.25}  # the text's: half speed until every bin is learned
