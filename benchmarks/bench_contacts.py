@@ -36,12 +36,9 @@ def old_model() -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_string(xml)
 
 
-def feet_only(spec: robot.RobotSpec) -> mujoco.MjModel:
+def feet_only(spec: robot.RobotSpec) -> robot.RobotSpec:
     """The new robot with only the four foot-floor pairs."""
-    spec_xml = robot.mjcf(spec)
-    for part in ("trunk", *(f"{leg}_{p}" for leg in robot.HB40.legs for p in ("thigh", "calf"))):
-        spec_xml = spec_xml.replace(f'<pair geom1="floor" geom2="{part}"/>', "")
-    return mujoco.MjModel.from_xml_string(spec_xml)
+    return dataclasses.replace(spec, floor_contacts=("foot",))
 
 
 def physics_steps_per_s(model: mujoco.MjModel, batch: int, nominal) -> float:
@@ -65,9 +62,9 @@ def physics_steps_per_s(model: mujoco.MjModel, batch: int, nominal) -> float:
     return batch * STEPS / timed(batched, start)
 
 
-def env_steps_per_s(approach: str, batch: int) -> float:
+def env_steps_per_s(approach: str, batch: int, spec: robot.RobotSpec = robot.HB40) -> float:
     """Full environment steps/s (thesis-code protocol, random actions)."""
-    env = HB40Env(approach, "forward")
+    env = HB40Env(approach, "forward", spec=spec)
 
     def rollout(keys):
         def body(state, key):
@@ -87,7 +84,8 @@ def main():
     variants = [("old model: 4 foot pairs, 4 iterations", old_model(), old_nominal)]
     for iterations in (4, 10, 50):
         spec = dataclasses.replace(robot.HB40, solver_iterations=iterations, solver_ls_iterations=min(iterations, 10))
-        variants.append((f"new model: 4 foot pairs, {iterations} iterations", feet_only(spec), robot.nominal_pose()))
+        variants.append((f"new model: 4 foot pairs, {iterations} iterations", robot.load_model(feet_only(spec)),
+                         robot.nominal_pose()))
         variants.append((f"new model: 13 floor pairs, {iterations} iterations", robot.load_model(spec),
                          robot.nominal_pose()))
     for name, model, nominal in variants:
@@ -97,10 +95,13 @@ def main():
         rows.append(row)
         print(f"{name:45s} " + "  ".join(f"{k}: {v}" for k, v in row.items() if k.startswith("physics")), flush=True)
     env_rows = {}
+    # The env step before the extra contacts (feet only) and after (all 13 floor pairs), same code otherwise.
     for approach in ("jt-oef", "cpg-d"):
-        for batch in (1, 16):
-            env_rows[f"{approach}_batch{batch}"] = round(env_steps_per_s(approach, batch), 1)
-            print(f"env step {approach} batch {batch}: {env_rows[f'{approach}_batch{batch}']} steps/s", flush=True)
+        for contacts, spec in (("", robot.HB40), ("_feet_only", feet_only(robot.HB40))):
+            for batch in (1, 16):
+                name = f"{approach}{contacts}_batch{batch}"
+                env_rows[name] = round(env_steps_per_s(approach, batch, spec), 1)
+                print(f"env step {name}: {env_rows[name]} steps/s", flush=True)
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text(json.dumps({"physics": rows, "env_steps_per_s": env_rows, "physics_steps_per_rollout": STEPS,
                                "hardware": results.hardware(), "versions": results.versions(),

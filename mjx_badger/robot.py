@@ -104,6 +104,8 @@ class RobotSpec:
     50 costs MJX about what 10 does, and unlike 10 it keeps MJX within 0.02 rad of native MuJoCo
     through the reset drop onto the stiff, impratio-100 contacts (benchmarks/bench_contacts.py)."""
     solver_ls_iterations: int = 10
+    floor_contacts: tuple = ("trunk", "thigh", "calf", "foot")
+    """Parts that collide with the floor (plane.xml: all of them); ("foot",) is the first version's feet-only model."""
 
     @property
     def joint_names(self) -> tuple:
@@ -251,8 +253,10 @@ def _leg(spec: RobotSpec, index: int) -> str:
 
 
 def collision_geoms(spec: RobotSpec = HB40) -> tuple:
-    """Geoms that touch the floor: trunk, and per leg the thigh motor, calf and foot."""
-    return ("trunk",) + tuple(f"{leg}_{part}" for leg in spec.legs for part in ("thigh", "calf", "foot"))
+    """Geoms that touch the floor: of `spec.floor_contacts`, the trunk and per leg the thigh motor, calf and foot."""
+    trunk = ("trunk",) if "trunk" in spec.floor_contacts else ()
+    return trunk + tuple(f"{leg}_{part}" for leg in spec.legs for part in ("thigh", "calf", "foot")
+                         if part in spec.floor_contacts)
 
 
 def mjcf(spec: RobotSpec = HB40, split_pd: bool = False) -> str:
