@@ -9,7 +9,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from mjx_badger import kinematics, protocols, robot
+from mjx_badger import actions, kinematics, protocols, robot
 from mjx_badger.env import EnvConfig, HB40Env
 
 with contextlib.redirect_stdout(io.StringIO()):
@@ -207,3 +207,10 @@ def test_the_spec_is_the_one_place_of_the_robots_figures():
     mujoco.mj_forward(model, data)
     drop = data.body("FL_hip").xpos[2] - data.geom("FL_foot").xpos[2]
     assert drop > 0.27, "the calf length did not reach the model"
+
+
+def test_floor_contacts_choose_the_collision_pairs_and_keep_the_legs():
+    """13 floor pairs (trunk, and per leg thigh motor, calf, foot); feet only is the first version's 4."""
+    feet_only = dataclasses.replace(robot.HB40, floor_contacts=("foot",))
+    assert robot.load_model().npair == 13 and robot.load_model(feet_only).npair == 4
+    actions.check_robot("cpg-d", feet_only, protocols.THESIS_CODE)  # the released CPG's IK still fits these legs
