@@ -507,12 +507,20 @@ def main(argv=None) -> int:
     return command()
 
 
-def overall_progress(index: int, runs: int, done: float, total: float, elapsed_s: float) -> str:
-    """'run i of n, p % of the work done, ~t left': the ETA at the rate measured so far (none before a run ends)."""
+def overall_progress(index: int, runs: int, done: float, total: float, elapsed_s: float,
+                     train_s: float | None = None) -> str:
+    """'run i of n, p % of the work done, ~t left': the ETA at the rate measured so far (none before a run ends).
+
+    With `train_s` (the seconds of training chunks among `elapsed_s`) the rest of `elapsed_s` counts per run,
+    not per update: compiling and recording cost a small run as much as a large one.
+    """
     line = f"run {index + 1} of {runs}, {100 * done / max(total, 1):.0f} % of the gradient updates done"
     if done > 0 and elapsed_s > 0:
-        left_h = (total - done) * elapsed_s / done / 3600
-        line += f", ~{left_h:.1f} h left at the rate so far"
+        if train_s is None or index == 0:
+            left_s = (total - done) * elapsed_s / done
+        else:
+            left_s = (total - done) * train_s / done + (runs - index) * (elapsed_s - train_s) / index
+        line += f", ~{left_s / 3600:.1f} h left at the rate so far"
     return line
 
 
@@ -535,12 +543,12 @@ def reproduce_command(args) -> int:
             for experiment, run, _ in todo]
     updates = sum(work)
     print(f"profile {args.profile}, protocol {args.protocol}: {len(todo)} runs x {profile.seeds} seeds, {updates:,} gradient updates in all; "
-          f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1 min compile per run")
+          f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1-2 min compile per run")
     if args.profile == "full" and todo:
         print(measured_estimate(todo, args, profile.seeds), flush=True)
-    started = time.perf_counter()
+    started, train_s = time.perf_counter(), 0.0
     for index, (experiment, run, path) in enumerate(todo):
-        print(overall_progress(index, len(todo), sum(work[:index]), updates, time.perf_counter() - started),
+        print(overall_progress(index, len(todo), sum(work[:index]), updates, time.perf_counter() - started, train_s),
               flush=True)
         config = experiment.train_config(run, args.profile, args.protocol)
         seeds = list(range(profile.seeds))
@@ -555,6 +563,7 @@ def reproduce_command(args) -> int:
                 shutil.copytree(tensorboard.folder(twin), tensorboard.folder(path), dirs_exist_ok=True)
             continue
         runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force, tensorboard=args.tensorboard)
+        train_s += results.read(path)["wall_clock"].get("run_s", 0.0) if path.exists() else 0.0
     if not cluster.writes():  # process 0 of a jax.distributed run draws and scores
         return 0
     for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
