@@ -562,8 +562,9 @@ def reproduce_command(args) -> int:
             if tensorboard.folder(twin).is_dir():
                 shutil.copytree(tensorboard.folder(twin), tensorboard.folder(path), dirs_exist_ok=True)
             continue
-        runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force, tensorboard=args.tensorboard)
-        train_s += results.read(path)["wall_clock"].get("run_s", 0.0) if path.exists() else 0.0
+        document = runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force,
+                              tensorboard=args.tensorboard)
+        train_s += (document or {}).get("wall_clock", {}).get("run_s", 0.0)
     if not cluster.writes():  # process 0 of a jax.distributed run draws and scores
         return 0
     for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):

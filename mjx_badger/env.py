@@ -190,7 +190,9 @@ class HB40Env(Env):
                 data = data.replace(qvel=data.qvel.at[6:].set(jnp.clip(data.qvel[6:], -clip, clip)))
             return (data, torque), self._trace(data)
 
-        (data, torque), trace = jax.lax.scan(physics_step, (state.pipeline_state, jnp.zeros(12)),
+        # The torque carry starts from `target` so that under vmap it is batched from the start: an unbatched
+        # carry that turns batched makes vmap batch the whole MJX step a second time (seconds of tracing).
+        (data, torque), trace = jax.lax.scan(physics_step, (state.pipeline_state, 0.0 * target),
                                              jnp.arange(self.substeps))
         state = self.end_step(state, data, action_state, target, torque, keys[0])
         return self._auto_reset(state, keys[1]), trace
