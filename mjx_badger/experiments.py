@@ -88,10 +88,11 @@ EXPERIMENTS = {
             "droq": {"minutes_to_target": 7, "falls": 32},
             "crossq": {"minutes_to_target": 2, "falls": 14},
         },
-        # 20 updates per step cost a CPU ~20x more per step: the quick profile gives them 10k
-        # steps (3.3 simulated minutes at thesis-code's 50 Hz, 4.2 at thesis-text's 40 Hz), past
-        # the ~2.7 minutes CrossQ needs here, so "CrossQ first" can be decided; short of DroQ's 7.
-        step_caps={"quick": {"sac-utd20": 10_000, "droq": 10_000}, "smoke": {"sac-utd20": 400, "droq": 400}},
+        # 20 updates per step cost a CPU ~20x more per step: quick and full give them 10k steps
+        # (3.3 simulated minutes at thesis-code's 50 Hz, 4.2 at thesis-text's 40 Hz), past the
+        # ~2.7 minutes CrossQ needs here, so "CrossQ first" can be decided; short of DroQ's 7.
+        step_caps={"full": {"sac-utd20": 10_000, "droq": 10_000}, "quick": {"sac-utd20": 10_000, "droq": 10_000},
+                   "smoke": {"sac-utd20": 400, "droq": 400}},
         figures=("algorithms",),
         x_axis="minutes",
     ),
