@@ -3,6 +3,7 @@
 Nothing here draws or trains; figures (plots.py), tables (tables.py) and the claims read these.
 """
 
+import json
 import warnings
 from pathlib import Path
 
@@ -53,6 +54,13 @@ def first_reached(document: dict, target: float) -> int | None:
     mean = np.nanmean(series(document, "train/forward_velocity"), axis=1)
     hits = np.flatnonzero(mean >= REACHED_FRACTION * target)
     return int(hits[0]) if hits.size else None
+
+
+def best_seed(document: dict) -> tuple[int, float]:
+    """(seed, its final evaluation return) of the run's best seed: the highest final evaluation return."""
+    returns = final(document, "eval/return")
+    index = int(np.nanargmax(returns))
+    return document["seeds"][index], float(returns[index])
 
 
 def gait_frequency(contacts, dt: float, low_hz: float = 0.5, high_hz: float = 12.0) -> float:
@@ -121,6 +129,32 @@ def summarize(document: dict, target: float | None) -> dict:
         "seeds": len(document["seeds"]),
         "complete": document["complete"],
     }
+
+
+RELEASED_CODE = Path(__file__).resolve().parent.parent / "figures" / "data" / "released-code"
+"""The thesis's released code run on a 2-core CPU, per experiment (<name>.json); the check for thesis-code at quick."""
+
+
+def released_code(experiment: str) -> dict | None:
+    """The released code's per-seed numbers for `experiment` (RELEASED_CODE), or None where it was not run."""
+    path = RELEASED_CODE / f"{experiment}.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def per_seed_released_measures(document: dict, threshold: float = 0.45, last_steps: int = 3000) -> dict:
+    """Per seed, as the released code's numbers were read: the first step whose chunk-mean forward velocity
+    reaches `threshold` (None: never), the mean velocity of the last `last_steps`, falls after warm-up."""
+    velocity = series(document, "train/forward_velocity")
+    steps = document["steps"]
+    chunk = steps[0] if len(steps) == 1 else steps[1] - steps[0]
+    crossed = [next((steps[i] for i in range(len(steps)) if velocity[i, k] >= threshold), None)
+               for k in range(velocity.shape[1])]
+    falls = series(document, "train/falls")
+    warmup = [i for i, step in enumerate(steps) if step <= document["config"]["warmup_steps"]]
+    in_warmup = falls[warmup[-1]] if warmup else np.zeros(falls.shape[1])
+    last = max(1, last_steps // chunk)
+    return {"steps_to_0.45": crossed, "velocity_last_3k": np.nanmean(velocity[-last:], axis=0).tolist(),
+            "falls": (falls[-1] - in_warmup).tolist()}
 
 
 def load_experiment(experiment: Experiment, folder: Path) -> dict:

@@ -280,14 +280,20 @@ def score(profile_folder: Path, protocol: str) -> list[Verdict]:
     return [claim.check(results) for claim in CLAIMS]
 
 
+def _mark(v: Verdict) -> str:
+    """HOLDS, FAILS, '-' (not run yet) or '?' (undecided), five characters wide."""
+    if v.holds is None:
+        return "  -  " if v.ours.startswith("no results") else "  ?  "
+    return "HOLDS" if v.holds else "FAILS"
+
+
 def scoreboard_text(verdicts: list[Verdict], profile: str, protocol: str) -> str:
     """A plain-text scoreboard: one line per claim, our numbers beside the thesis's."""
     held = sum(v.holds is True for v in verdicts)
     checked = sum(v.holds is not None for v in verdicts)
     lines = []
     for v in verdicts:
-        mark = {True: "HOLDS", False: "FAILS", None: "  -  " if v.ours.startswith("no results") else "  ?  "}[v.holds]
-        lines.append(f"  {mark}  {v.claim.finding} [{v.claim.figure}]")
+        lines.append(f"  {_mark(v)}  {v.claim.finding} [{v.claim.figure}]")
         lines.append(f"         thesis: {v.claim.thesis} | ours: {v.ours}")
     return (f"thesis claims, {protocol} protocol, {profile} profile: {held} of {len(verdicts)} hold "
             f"({checked} checked)\n" + "\n".join(lines))
@@ -299,10 +305,23 @@ def _cell(v: Verdict) -> str:
     return f"{'**holds**' if v.holds else 'fails'}: {v.ours}"
 
 
-def scoreboard_markdown(boards: dict) -> str:
-    """The README's side-by-side scoreboard: one row per claim, one verdict column per protocol."""
+def budgets_text(boards: dict, protocol: str) -> str:
+    """Plain text of one protocol's scoreboards at several profiles (budgets), claim by claim."""
+    totals = ", ".join(f"{sum(v.holds is True for v in board)} of {len(board)} at {name}" for name, board in boards.items())
+    lines = [f"thesis claims, {protocol} protocol: {totals} hold"]
+    width = max(len("thesis"), *map(len, boards))
+    for row in zip(*boards.values()):
+        lines.append(f"  {row[0].claim.finding} [{row[0].claim.figure}]")
+        lines.append(f"    {'thesis':<{width}}  {row[0].claim.thesis}")
+        for name, v in zip(boards, row):
+            lines.append(f"    {name:<{width}}  {_mark(v)}  {v.ours}")
+    return "\n".join(lines)
+
+
+def scoreboard_markdown(boards: dict, column: str = "{}: ours") -> str:
+    """The README's side-by-side scoreboard: one row per claim, one verdict column per board (protocol or profile)."""
     names = list(boards)
-    lines = ["| thesis finding | thesis | " + " | ".join(f"{n}: ours" for n in names) + " |",
+    lines = ["| thesis finding | thesis | " + " | ".join(column.format(n) for n in names) + " |",
              "|---|---|" + "---|" * len(names)]
     for row in zip(*boards.values()):
         claim = row[0].claim

@@ -1,4 +1,4 @@
-"""Command line: `python -m mjx_badger {train,sweep,reproduce,figures,claims,attribute,realtime,list}`.
+"""Command line: `python -m mjx_badger {train,sweep,reproduce,figures,claims,publish,attribute,realtime,list}`.
 
 tyro builds every option from the dataclasses below and the run specs they hold
 (TrainConfig, RealtimeConfig), so each option is declared once, its docstring its help.
@@ -250,13 +250,19 @@ class Claims:
     """Also write the scoreboard here."""
     markdown: Optional[Path] = None
     """Also write the protocols' scoreboards side by side as a Markdown table here."""
+    budgets: tuple[Profile, ...] = ()
+    """Score these profiles side by side instead (e.g. --budgets quick full), one protocol (thesis-code unless
+    --protocol): one table, thesis | ours at each budget."""
 
     def check(self) -> None:
-        pass
+        if len(set(self.budgets)) != len(self.budgets):
+            raise ValueError(f"--budgets names a profile twice: {' '.join(self.budgets)}")
 
     def __call__(self) -> int:
         from mjx_badger import claims, results
 
+        if self.budgets:
+            return self.by_budget()
         names = [self.protocol] if self.protocol else list(PROTOCOLS)
         boards = {name: claims.score(self.results_dir / self.profile, name) for name in names}
         for name, board in boards.items():
@@ -269,6 +275,54 @@ class Claims:
             self.json.parent.mkdir(parents=True, exist_ok=True)
             self.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
                                             indent=1))
+        return 0
+
+
+    def by_budget(self) -> int:
+        from mjx_badger import claims, results
+
+        protocol = self.protocol or "thesis-code"
+        boards = {name: claims.score(self.results_dir / name, protocol) for name in self.budgets}
+        print(claims.budgets_text(boards, protocol))
+        for name in boards:
+            print(f"  wall time at {name}: {results.wall_time_words(self.results_dir / name / protocol)}")
+        if self.markdown:
+            times = "; ".join(f"{name}: {results.wall_time_words(self.results_dir / name / protocol)}" for name in boards)
+            self.markdown.parent.mkdir(parents=True, exist_ok=True)
+            self.markdown.write_text(f"Protocol: {protocol}\n\n" + claims.scoreboard_markdown(boards, "ours at {}")
+                                     + f"\nWall time on this machine: {times}.\n")
+            print(f"wrote {self.markdown}")
+        if self.json:
+            self.json.parent.mkdir(parents=True, exist_ok=True)
+            self.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
+                                            indent=1))
+        return 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Publish:
+    """Copy a profile's complete results into a reference folder, each with its best seed's policy only."""
+
+    profile: Profile = "quick"
+    protocol: ProtocolName = "thesis-code"
+    results_dir: Path = Path("results")
+    to: Path = Path("figures/data")
+    """The reference folder (results land in <to>/<profile>/<protocol>/<experiment>/)."""
+
+    def check(self) -> None:
+        source = self.results_dir / self.profile / self.protocol
+        if not source.is_dir():
+            raise ValueError(f"no results folder {str(source)!r}")
+        if (self.to / self.profile / self.protocol).resolve() == source.resolve():
+            raise ValueError(f"--to {str(self.to)!r} is where the results already are; name another folder")
+        writable_dir(self.to, "reference folder")
+
+    def __call__(self) -> int:
+        from mjx_badger import publish
+
+        for path, what in publish.publish(self.results_dir / self.profile / self.protocol,
+                                          self.to / self.profile / self.protocol):
+            print(f"{path}: {what}")
         return 0
 
 
@@ -462,8 +516,8 @@ class List:
         return 0
 
 
-COMMANDS = {"train": Train, "sweep": Sweep, "reproduce": Reproduce, "figures": Figures, "claims": Claims, "attribute": Attribute,
-            "realtime": Realtime, "evaluate": Evaluate, "render": Render, "list": List}
+COMMANDS = {"train": Train, "sweep": Sweep, "reproduce": Reproduce, "figures": Figures, "claims": Claims,
+            "publish": Publish, "attribute": Attribute, "realtime": Realtime, "evaluate": Evaluate, "render": Render, "list": List}
 
 
 def one_line(box: str) -> str:

@@ -11,11 +11,11 @@ import numpy as np  # noqa: E402
 
 from mjx_badger import results  # noqa: E402
 from mjx_badger.actions import APPROACHES  # noqa: E402
-from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_frequency,  # noqa: E402
+from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_frequency, released_code,  # noqa: E402
                                  load_experiment, series, summarize)
 from mjx_badger.experiments import EXPERIMENTS, Experiment  # noqa: E402
 from mjx_badger.robot import ROBOTS  # noqa: E402
-from mjx_badger.tables import TABLES  # noqa: E402
+from mjx_badger.tables import TABLES, released_code_table  # noqa: E402
 
 
 def _band(ax, x, values, color, label, style=None):
@@ -356,6 +356,12 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protoco
         table = TABLES[experiment.table](experiment, documents, experiment.x_axis)
         table_path.write_text(f"Protocol: {protocol}, profile: {profile}\n\n" + table)
         written.append(table_path)
+        released = released_code(name) if protocol == "thesis-code" else None
+        if released is not None:  # the released code's own spread, the check for thesis-code
+            beside = figures_dir / f"{name}_vs_released-code_{profile}.md"
+            beside.write_text(f"Protocol: {protocol}, profile: {profile}. {released['what']}\n\n"
+                              + released_code_table(documents, released, profile))
+            written.append(beside)
     if any(loaded.values()):
         written.append(overview_figure(loaded, figures_dir / f"overview_{profile}.png", label))
     return written

@@ -48,13 +48,30 @@ def save(path: Path, params: dict, stats: dict, meta: dict) -> Path:
         elif layer["op"] == "renorm":
             arrays |= {f"{layer['name']}/{k}": params[layer["name"]][k] for k in ("scale", "bias")}
             arrays |= {f"{layer['name']}/{k}": stats[layer["name"]][k] for k in ("mean", "var")}
-    document = dict(meta, format=FORMAT, layers=layers)
+    return _write(path, dict(meta, format=FORMAT, layers=layers),
+                  {k: np.asarray(v, np.float32) for k, v in arrays.items()})
+
+
+def _write(path: Path, meta: dict, arrays: dict) -> Path:
+    """Write atomically, so an interrupted save never leaves a half-written policy."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp.npz")
-    np.savez(tmp, meta=np.array(json.dumps(document)), **{k: np.asarray(v, np.float32) for k, v in arrays.items()})
+    np.savez(tmp, meta=np.array(json.dumps(meta)), **arrays)
     tmp.replace(path)
     return path
+
+
+def keep_seeds(path: Path, out: Path, seeds: list[int]) -> Path:
+    """A copy of the saved policy at `path` holding only `seeds` (e.g. a run's best seed, to commit)."""
+    with np.load(path) as data:
+        meta = json.loads(str(data["meta"]))
+        missing = sorted(set(seeds) - set(meta["seeds"]))
+        if missing:
+            raise ValueError(f"{path} holds seeds {meta['seeds']}, not {missing}")
+        index = [meta["seeds"].index(seed) for seed in seeds]
+        arrays = {k: data[k][index] for k in data.files if k != "meta"}
+    return _write(out, dict(meta, seeds=list(seeds)), arrays)
 
 
 class Policy:

@@ -98,10 +98,9 @@ def best(folder: Path) -> tuple[Path, int, float] | None:
         document = results.read(path, leave_out_diverged=True)
         if not document.get("complete") or not document["seeds"] or "policy" not in document or not (path.parent / document["policy"]).exists():
             continue
-        returns = analysis.final(document, "eval/return")
-        index = int(np.nanargmax(returns))
-        if found is None or returns[index] > found[2]:
-            found = (path, document["seeds"][index], float(returns[index]))
+        seed, value = analysis.best_seed(document)
+        if found is None or value > found[2]:
+            found = (path, seed, value)
     return found
 
 

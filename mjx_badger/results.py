@@ -21,6 +21,8 @@ Schema `mjx_badger.results/2` (files of schema 1 are read into it: `upgrade`):
                   non-finite; the seed was frozen there (its metrics are null from then) while the
                   others went on, and figures, tables and claims leave it out (`healthy`)
     policy        after the last chunk: the file name of every seed's final actor (policy.py's format)
+    published_policy_seeds  only in a reference copy (publish.py), which has no agents folder: the
+                  seeds its policy file still holds (the best one)
     agents        after the last chunk: the folder of every seed's whole final agent, critic and
                   optimiser states included (checkpoints.save_agents / load_agents)
     gait          after the last chunk: a deterministic run under the task's first evaluation

@@ -92,5 +92,40 @@ def omni_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
     return _per_run(experiment, documents, columns, cells)
 
 
+RELEASED_MEASURES = {
+    "steps_to_0.45": ("steps to 0.45 m/s", lambda x: "never" if x is None else f"{x / 1000:.0f}k"),
+    "velocity_last_3k": ("velocity, last 3k steps (m/s)", "{:.2f}".format),
+    "falls": ("falls after warm-up", "{:.0f}".format),
+}
+"""The released code's per-seed measures (analysis.per_seed_released_measures): title and format."""
+
+
+def _inside(ours: list, theirs: list) -> str:
+    """How many of our seeds lie inside the released code's [min, max]; 'never' (None) counts as infinite."""
+    value = lambda x: float("inf") if x is None else x
+    low, high = min(map(value, theirs)), max(map(value, theirs))
+    return f"{sum(low <= value(x) <= high for x in ours)} of {len(ours)}"
+
+
+def released_code_table(documents: dict, released: dict, profile: str) -> str:
+    """Per approach, our seeds beside the released code's on a CPU: steps to 0.45 m/s, velocity of the last 3k
+    steps, falls after warm-up; and how many of our seeds fall inside its range."""
+    from mjx_badger.analysis import per_seed_released_measures
+
+    lines = ["| approach | " + " | ".join(f"{title}: released code / ours at {profile} (inside its range)"
+                                          for title, _ in RELEASED_MEASURES.values()) + " |",
+             "|---" * (len(RELEASED_MEASURES) + 1) + "|"]
+    for label, document in documents.items():
+        theirs = released["approaches"].get(label)
+        if theirs is None:
+            continue
+        ours = per_seed_released_measures(document)
+        words = lambda values, fmt: ", ".join(map(fmt, values))
+        cells = [f"{words(theirs[key], fmt)} / {words(ours[key], fmt)} ({_inside(ours[key], theirs[key])})"
+                 for key, (_, fmt) in RELEASED_MEASURES.items()]
+        lines.append(f"| {display_name(label)} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
 TABLES = {"comparison": comparison_table, "max-velocity": max_velocity_table, "omni": omni_table}
 """Table kind (Experiment.table) -> (experiment, documents, x_axis) -> Markdown."""

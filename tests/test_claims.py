@@ -101,3 +101,21 @@ def test_wall_time_passes_over_the_checkpoints_of_a_running_run(tmp_path):
     stamp.parent.mkdir(parents=True)
     stamp.write_text('{"config": {}, "seeds": [0]}')
     assert results.wall_time_words(folder) == "1 run in 1.00 h (compile 1.0 min of it)"
+
+
+def test_the_budgets_board_puts_each_profile_beside_the_thesis(tmp_path, capsys):
+    from mjx_badger.cli import main
+
+    # JT falls of the thesis's size at full, far from it at quick: the verdict differs by budget.
+    for profile, nf_falls in (("quick", 58.0), ("full", 13.0)):
+        for name, falls in (("jt-nf", nf_falls), ("jt-oef", 7.0), ("jt-lpf", 6.0)):
+            _write(tmp_path / profile / "thesis-code", "forward", name, _document(0.55, falls))
+    out = tmp_path / "budgets.md"
+    assert main(["claims", "--results-dir", str(tmp_path), "--budgets", "quick", "full", "--markdown", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "thesis-code protocol: 1 of 15 at quick, 2 of 15 at full hold" in text
+    assert "quick   FAILS  JT-NF 58.0" in text and "full    HOLDS  JT-NF 13.0" in text
+    table = out.read_text()
+    assert "| thesis finding | thesis | ours at quick | ours at full |" in table
+    row = next(line for line in table.splitlines() if line.startswith("| JT forward falls"))
+    assert row.endswith("| fails: JT-NF 58.0, JT-OEF 7.0, JT-LPF 6.0 | **holds**: JT-NF 13.0, JT-OEF 7.0, JT-LPF 6.0 |")
