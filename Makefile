@@ -18,6 +18,7 @@ $(VENV)/.installed: pyproject.toml requirements.lock
 install: $(VENV)/.installed
 
 test: install
+	$(VENV)/bin/ruff check mjx_badger tests benchmarks
 	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile
 
 test-slow: install

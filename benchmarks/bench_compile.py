@@ -13,7 +13,6 @@ the share of the test suite's time spent in tests that compile.
 """
 
 import argparse
-import dataclasses
 import json
 import re
 import subprocess

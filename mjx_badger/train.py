@@ -15,11 +15,10 @@ import jax.numpy as jnp
 import tyro
 from flax import struct
 
-from mjx_badger import actions, evaluation, protocols, replay, robot, tasks
-from mjx_badger.agents import ALGORITHMS, AgentConfig, AgentState, make_agent
+from mjx_badger import actions, evaluation, replay, tasks
+from mjx_badger.agents import AgentConfig, AgentState, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
-from mjx_badger.protocols import Protocol
 from mjx_badger.spec import RunSpec
 
 

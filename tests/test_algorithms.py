@@ -10,7 +10,7 @@ import pytest
 from conftest import seed_keys
 from mjx_badger.agents import ALGORITHMS, make_agent
 from mjx_badger.agents.losses import Transition, make_losses
-from mjx_badger.agents.networks import LOG_STD_MAX, LOG_STD_MIN, Actor, Critic
+from mjx_badger.agents.networks import Actor, Critic
 from mjx_badger.train import TrainConfig, make_train
 
 ALPHA = 0.5

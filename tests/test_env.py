@@ -4,7 +4,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mjx_badger import env as env_module
 from mjx_badger import protocols
 from mjx_badger.env import EnvConfig, HB40Env
 

@@ -137,7 +137,7 @@ def test_native_mujoco_stands_still_for_10_s():
 def _rollout(env, seconds):
     reset, step = jax.jit(env.reset), jax.jit(env.step)
     state = reset(jax.random.PRNGKey(0))
-    heights, tilts, contacts = [], [], []
+    heights, tilts = [], []
     for _ in range(int(seconds * env.control_hz)):
         state = step(state, jnp.zeros(env.action_size))
         heights.append(float(state.metrics["height"]))

@@ -4,7 +4,7 @@ import dataclasses
 
 import tyro
 
-from mjx_badger import robot, tasks
+from mjx_badger import tasks
 from mjx_badger.actions import is_cpg
 from mjx_badger.agents import AgentConfig
 from mjx_badger.spec import RunSpec

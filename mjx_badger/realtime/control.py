@@ -10,7 +10,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mjx_badger import cpg, robot, tasks
+from mjx_badger import cpg, tasks
 from mjx_badger.actions import is_cpg
 from mjx_badger.agents import make_agent
 from mjx_badger.agents.losses import Transition
