@@ -155,9 +155,11 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path):
 
     written = plots.draw(tmp_path / "results", tmp_path / "figures", "smoke", ["forward"])
     assert [p.name for p in written] == ["forward_smoke.png", "forward_gait_smoke.png", "forward_smoke.md",
-                                         "overview_smoke.png"]
+                                         "forward_vs_released-code_smoke.md", "overview_smoke.png"]
     assert all(p.parent.name == "thesis-code" for p in written)
     assert written[2].read_text().startswith("Protocol: thesis-code")
+    # thesis-code's forward run beside the released code's CPU spread, our two seeds counted against it.
+    assert "| JT-OEF | 14k, 10k, never / " in written[3].read_text() and " of 2) |" in written[3].read_text()
     assert all(p.stat().st_size > 10_000 for p in written if p.suffix == ".png")
     assert "JT-OEF" in written[2].read_text()
 
