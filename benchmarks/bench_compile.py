@@ -8,8 +8,9 @@ it; the evaluation alone; the gait record) is traced, lowered and compiled by XL
 persistent cache off, each phase timed, and the MJX steps counted: the constraint solver's
 while loops inside the `mjx_step` scope (env.py), over those of one `mjx.step` compiled alone.
 Then the same `train` run twice into one cache folder, in two processes: time to the first chunk
-with an empty and with a warm cache. With `--durations` (the output of `pytest --durations=0`),
-the share of the test suite's time spent in tests that compile.
+with an empty and with a warm cache. With `--durations` (the output of `pytest --durations=0`)
+and `--compile-log` (the folder its processes wrote with MJX_BADGER_COMPILE_LOG set), the share of the
+test suite's time spent compiling.
 """
 
 import argparse
@@ -121,21 +122,27 @@ def first_chunk_times() -> dict:
     return {"empty_cache": runs[0], "warm_cache": runs[1]}
 
 
-def compile_share(durations: Path) -> dict:
-    """From `pytest --durations=0` output: seconds of tests that build a training program (tests whose setup or
-    call took over 10 s; the rest compile nothing that large) against the whole."""
-    rows = [(float(s), phase, name) for s, phase, name in
-            re.findall(r"^([\d.]+)s (call|setup|teardown)\s+(\S+)", durations.read_text(), re.M)]
-    total = sum(s for s, _, _ in rows)
-    heavy = sum(s for s, _, _ in rows if s > 10.0)
-    return {"test_seconds": round(total, 1), "in_steps_over_10_s": round(heavy, 1),
-            "share": round(heavy / total, 3) if total else None}
+def compile_share(durations: Path, compile_log: Path | None) -> dict:
+    """The test suite's seconds (`pytest --durations=0` output) and, from the compile log the test processes
+    wrote (conftest.py, MJX_BADGER_COMPILE_LOG), the seconds they spent tracing, lowering and in XLA."""
+    rows = [float(s) for s in re.findall(r"^([\d.]+)s (?:call|setup|teardown)\s", durations.read_text(), re.M)]
+    total = sum(rows)
+    share = {"test_seconds": round(total, 1), "tests_over_10_s": sum(s > 10.0 for s in rows)}
+    if compile_log is not None:
+        spent = {}
+        for path in sorted(compile_log.glob("*.json")):
+            for phase, seconds in json.loads(path.read_text()).items():
+                spent[phase] = spent.get(phase, 0.0) + seconds
+        share |= {k: round(v, 1) for k, v in spent.items()}
+        share["compile_share"] = round(sum(spent.values()) / total, 3) if total else None
+    return share
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/compile.json"))
-    parser.add_argument("--durations", type=Path)
+    parser.add_argument("--durations", type=Path, help="`pytest --durations=0` output of a test run")
+    parser.add_argument("--compile-log", type=Path, help="the MJX_BADGER_COMPILE_LOG folder of that run")
     parser.add_argument("--only", choices=tuple(CONFIGS), help="one configuration shape")
     parser.add_argument("--note", default="", help="what else ran on the machine")
     args = parser.parse_args()
@@ -151,7 +158,7 @@ def main():
     measured["first_chunk"] = first_chunk_times()
     print("first chunk", measured["first_chunk"], flush=True)
     if args.durations:
-        measured["make_test"] = compile_share(args.durations)
+        measured["make_test"] = compile_share(args.durations, args.compile_log)
     measured["hardware"] = results.hardware()
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(measured, indent=1) + "\n")
