@@ -130,7 +130,7 @@ def compile_share(durations: Path, compile_log: Path | None) -> dict:
     share = {"test_seconds": round(total, 1), "tests_over_10_s": sum(s > 10.0 for s in rows)}
     if compile_log is not None:
         spent = {}
-        for path in sorted(compile_log.glob("*.json")):
+        for path in sorted(set(compile_log.glob("*.json")) - set(compile_log.glob("*.programs.json"))):
             for phase, seconds in json.loads(path.read_text()).items():
                 spent[phase] = spent.get(phase, 0.0) + seconds
         share |= {k: round(v, 1) for k, v in spent.items()}

@@ -561,25 +561,16 @@ def main(argv=None) -> int:
     return command()
 
 
-def overall_progress(index: int, runs: int, done: float, total: float, elapsed_s: float,
-                     train_s: float | None = None) -> str:
-    """'run i of n, p % of the work done, ~t left': the ETA at the rate measured so far (none before a run ends).
-
-    With `train_s` (the seconds of training chunks among `elapsed_s`) the rest of `elapsed_s` counts per run,
-    not per update: compiling and recording cost a small run as much as a large one.
-    """
+def overall_progress(index: int, runs: int, done: float, total: float, left_s: float | None) -> str:
+    """'run i of n, p % of the gradient updates done, ~t left' (eta.py: no ETA before a run has ended)."""
     line = f"run {index + 1} of {runs}, {100 * done / max(total, 1):.0f} % of the gradient updates done"
-    if done > 0 and elapsed_s > 0:
-        if train_s is None or index == 0:
-            left_s = (total - done) * elapsed_s / done
-        else:
-            left_s = (total - done) * train_s / done + (runs - index) * (elapsed_s - train_s) / index
-        line += f", ~{left_s / 3600:.1f} h left at the rate so far"
+    if left_s is not None:
+        line += f", ~{left_s / 3600:.1f} h left" if left_s >= 3600 else f", ~{left_s / 60:.0f} min left"
     return line
 
 
 def reproduce_command(args) -> int:
-    from mjx_badger import claims, cluster, plots, results, runner, tensorboard
+    from mjx_badger import claims, cluster, eta, plots, results, runner, tensorboard
 
     profile = PROFILES[args.profile]
     folder = args.results_dir / args.profile / args.protocol
@@ -600,16 +591,20 @@ def reproduce_command(args) -> int:
           f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1-2 min compile per run")
     if args.profile == "full" and todo:
         print(measured_estimate(todo, args, profile.seeds), flush=True)
-    started, train_s = time.perf_counter(), 0.0
-    for index, (experiment, run, path) in enumerate(todo):
-        print(overall_progress(index, len(todo), sum(work[:index]), updates, time.perf_counter() - started, train_s),
+    configs = [experiment.train_config(run, args.profile, args.protocol) for experiment, run, _ in todo]
+    seeds = list(range(profile.seeds))
+    plans = [eta.planned(config, profile.seeds, copy=config in configs[:i] or _same_run(folder, config, seeds)
+                         is not None) for i, config in enumerate(configs)]
+    started, done = time.perf_counter(), []
+    for index, ((experiment, run, path), config) in enumerate(zip(todo, configs)):
+        print(overall_progress(index, len(todo), sum(work[:index]), updates, eta.seconds_left(plans[index:], done)),
               flush=True)
-        config = experiment.train_config(run, args.profile, args.protocol)
-        seeds = list(range(profile.seeds))
+        run_started = time.perf_counter()
         twin = _same_run(folder, config, seeds)
         if twin is not None and not args.force:
             # Experiments share runs (CrossQ JT-NF forward is in two); a run is deterministic per seed.
             print(f"reuse {twin} for {path}: the same configuration and seeds")
+            done.append(eta.Done(plans[index], 0.0, 0.0))
             if not cluster.writes():  # another process of a jax.distributed run copies it
                 continue
             results.write(path, results.read(twin))
@@ -618,7 +613,10 @@ def reproduce_command(args) -> int:
             continue
         document = runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force,
                               tensorboard=args.tensorboard)
-        train_s += (document or {}).get("wall_clock", {}).get("run_s", 0.0)
+        # A resumed run trained only part of its work here: its rate is not this machine's.
+        if document and document.get("wall_clock", {}).get("resumed_at_step") is None:
+            train_s = document["wall_clock"].get("run_s", 0.0)
+            done.append(eta.Done(plans[index], train_s, time.perf_counter() - run_started - train_s))
     if not cluster.writes():  # process 0 of a jax.distributed run draws and scores
         return 0
     for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):

@@ -78,8 +78,10 @@ def evaluation_env(config, seconds: float) -> HB40Env:
 
 def run_mjx(env: HB40Env, act: Callable, command, seconds: float, seed: int = 0) -> dict:
     """`act(observation) -> action` for `seconds` on the MJX env under `command`."""
+    # A step's output is committed to its device and a reset's is not: committed alike, the step compiles once.
+    reset = lambda key, command: jax.device_put(env.reset(key, command), jax.devices()[0])
     step = jax.jit(env.traced_step)
-    state = env.reset(jax.random.PRNGKey(seed), jnp.asarray(command, jnp.float32))
+    state = reset(jax.random.PRNGKey(seed), jnp.asarray(command, jnp.float32))
     track = _Track()
     for _ in range(int(round(seconds / env.control_dt))):
         before = np.asarray(state.pipeline_state.qpos)
@@ -87,7 +89,7 @@ def run_mjx(env: HB40Env, act: Callable, command, seconds: float, seed: int = 0)
         track.step(before, np.asarray(state.pipeline_state.qpos), bool(state.info["terminated"]))
         track.contacts.extend(np.asarray(contacts))
         if bool(state.info["terminated"]):  # the env's own reset drew the task's command: start again under this one
-            state = env.reset(jax.random.PRNGKey(seed + track.falls), jnp.asarray(command, jnp.float32))
+            state = reset(jax.random.PRNGKey(seed + track.falls), jnp.asarray(command, jnp.float32))
     return track.summary(np.asarray(command), seconds, env.spec.physics_dt)
 
 

@@ -1,11 +1,12 @@
 """Host side of a training run: compile once, run chunk by chunk, show progress, write results."""
 
+import collections
 import dataclasses
 import json
 import sys
 import time
 from pathlib import Path
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -53,16 +54,48 @@ def check_seeds_divide(num_seeds: int, num_devices: int) -> None:
                          "XLA_FLAGS=--xla_force_host_platform_device_count on a CPU)")
 
 
+# The programs of the last few configurations this process compiled, by (config, seed count): a later
+# run of the same shapes (a test suite, a resumed or repeated run) neither traces nor compiles again.
+_PROGRAMS: collections.OrderedDict = collections.OrderedDict()
+KEPT_PROGRAMS = 6
+
+
+class Program(NamedTuple):
+    """One configuration's compiled functions for a number of seeds on one device."""
+
+    init: Callable
+    """jit(vmap(init)) over the seeds' keys."""
+    chunk: Callable
+    """The compiled chunk; it donates its carry (the caller's carry is invalid after the call)."""
+    gait: Callable
+    """jit(vmap(gait)): the gait record after training."""
+
+
+def program(trainer, num_seeds: int) -> tuple[Program, float]:
+    """(`trainer`'s program for `num_seeds` seeds, seconds spent compiling it now: 0 when this process had it)."""
+    key = (trainer.config, num_seeds)
+    if key in _PROGRAMS:
+        _PROGRAMS.move_to_end(key)
+        return _PROGRAMS[key], 0.0
+    init = jax.jit(jax.vmap(trainer.init))
+    carry = jax.eval_shape(init, jax.vmap(jax.random.PRNGKey)(jnp.arange(num_seeds)))
+    t0 = time.perf_counter()
+    chunk = jax.jit(seeds_chunk(trainer, num_seeds), donate_argnums=0).lower(carry, 0).compile()
+    built = Program(init, chunk, jax.jit(jax.vmap(trainer.gait)))
+    _PROGRAMS[key] = built
+    while len(_PROGRAMS) > KEPT_PROGRAMS:
+        _PROGRAMS.popitem(last=False)
+    return built, time.perf_counter() - t0
+
+
 def compiled(trainer, seeds: list[int]):
     """(the seeds' initial carry, the compiled chunk, compile seconds); on several devices both split by seed."""
     keys = jax.vmap(jax.random.PRNGKey)(jnp.asarray(seeds))
-    init = jax.jit(jax.vmap(trainer.init))
     sharding = seed_sharding(len(seeds))
     if sharding is None:
-        carry = init(keys)
-        t0 = time.perf_counter()
-        chunk = jax.jit(seeds_chunk(trainer, len(seeds)), donate_argnums=0).lower(carry, 0).compile()
-        return carry, chunk, time.perf_counter() - t0
+        built, compile_s = program(trainer, len(seeds))
+        return built.init(keys), built.chunk, compile_s
+    init = jax.jit(jax.vmap(trainer.init))
     # Each device runs the one-device program of its own seeds (the same HLO, so the same numbers as
     # one device running them); the carry and metrics are global arrays sharded on the seed axis. An
     # SPMD program (jit or shard_map over the mesh) fuses differently and rounds differently. With
@@ -72,9 +105,9 @@ def compiled(trainer, seeds: list[int]):
     mine = [(i, device) for i, device in enumerate(devices) if device.process_index == jax.process_index()]
     parts = [init(jax.device_put(keys[i * local:(i + 1) * local], device)) for i, device in mine]
     devices = [device for _, device in mine]
-    program = jax.jit(seeds_chunk(trainer, local))
+    per_device = jax.jit(seeds_chunk(trainer, local))
     t0 = time.perf_counter()
-    programs = [program.lower(part, 0).compile() for part in parts]
+    programs = [per_device.lower(part, 0).compile() for part in parts]
     compile_s = time.perf_counter() - t0
 
     def chunk(carry, start):
@@ -144,8 +177,13 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     member = Member(config, list(seeds), out_path, trainer.env)
     carry, (document,) = train_loop([member], carry, chunk, lambda carry, metrics: [(metrics, carry.diverged_at)],
                                     out_path, started, compile_s, progress, resume, tensorboard)
-    gait = gather(jax.jit(jax.vmap(trainer.gait))(carry))
+    gait = gather(_gait(trainer, len(seeds))(carry))
     return finish(member, document, gait, carry.agent_state)
+
+
+def _gait(trainer, num_seeds: int) -> Callable:
+    """The gait record's program: this process's own on one device, a fresh one for seeds split over devices."""
+    return program(trainer, num_seeds)[0].gait if seed_sharding(num_seeds) is None else jax.jit(jax.vmap(trainer.gait))
 
 
 def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, started: str, compile_s: float,
@@ -179,6 +217,8 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
         if found is not None and all(p is not None and len(p["steps"]) >= found[0] for p in previous):
             first, carry = found
             documents = [_truncated(p, first) for p in previous]
+            for document in documents:  # its wall_clock counts both sittings from here on
+                document["wall_clock"]["resumed_at_step"] = first * config.chunk_steps
             print(f"resuming {checkpoint_path.name} at step {first * config.chunk_steps} from {saved.path}",
                   file=sys.stderr)
     events = [event_files.Writer(m.out_path, m.seeds, d) if tensorboard and writes() else None

@@ -2,7 +2,9 @@
 
 import collections
 import json
+import logging
 import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -11,7 +13,7 @@ import jax.monitoring
 import jax.numpy as jnp
 import pytest
 
-from mjx_badger import enable_compilation_cache
+from mjx_badger import enable_compilation_cache, runner
 from mjx_badger.env import EnvConfig, HB40Env
 from mjx_badger.train import TrainConfig, make_train
 
@@ -26,23 +28,56 @@ COMPILE_EVENTS = {"/jax/core/compile/jaxpr_trace_duration": "trace_s",
                   "/jax/core/compile/jaxpr_to_mlir_module_duration": "lower_s",
                   "/jax/core/compile/backend_compile_duration": "xla_compile_s"}
 _compile_seconds = collections.Counter()
+COMPILES = []
+"""[test, phase, program, seconds] for every trace, lowering and XLA compile of this process, and
+[test, "cache_hit", program, 0.0] for every program loaded from the persistent cache."""
+_current_test = ["(collection)"]
 
 
-def _count_compile(event: str, duration: float, **_) -> None:
+def _count_compile(event: str, duration: float, fun_name: str = "?", **_) -> None:
     if event in COMPILE_EVENTS:
         _compile_seconds[COMPILE_EVENTS[event]] += duration
+        COMPILES.append([_current_test[0], COMPILE_EVENTS[event], fun_name, duration])
 
 
 jax.monitoring.register_event_duration_secs_listener(_count_compile)
 
 
+class _CacheHits(logging.Handler):
+    """Which programs came from the persistent cache (JAX names them only in a DEBUG record)."""
+
+    HIT = re.compile(r"Persistent compilation cache hit for '([^']+)'")
+
+    def emit(self, record):
+        found = self.HIT.search(record.getMessage())
+        if found:
+            COMPILES.append([_current_test[0], "cache_hit", found[1], 0.0])
+
+
+_compiler_log = logging.getLogger("jax._src.compiler")
+_compiler_log.setLevel(logging.DEBUG)
+_compiler_log.propagate = False  # its DEBUG records are counted here, not printed in pytest's reports
+_compiler_log.addHandler(_CacheHits())
+
+
+def traced(since: int, name: str) -> int:
+    """How many times a program whose name holds `name` was traced after COMPILES[since]."""
+    return sum(1 for _, phase, program, _ in COMPILES[since:] if phase == "trace_s" and name in program)
+
+
+def pytest_runtest_logstart(nodeid, location):
+    _current_test[0] = nodeid  # before setup, so a session fixture's compile counts for the test that built it
+
+
 def pytest_sessionfinish(session):
-    """With MJX_BADGER_COMPILE_LOG=DIR, each process writes the seconds it spent compiling (bench_compile.py reads them)."""
+    """With MJX_BADGER_COMPILE_LOG=DIR, each process writes the seconds it spent compiling, per phase and per
+    program and test (bench_compile.py reads them)."""
     folder = os.environ.get("MJX_BADGER_COMPILE_LOG")
     if folder:
         Path(folder).mkdir(parents=True, exist_ok=True)
         worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
         (Path(folder) / f"{worker}.json").write_text(json.dumps(dict(_compile_seconds)))
+        (Path(folder) / f"{worker}.programs.json").write_text(json.dumps(COMPILES))
 
 # The smallest training run that still exercises warm-up, learning, episode ends and evaluation.
 TINY_TRAIN = TrainConfig(approach="jt-oef", algo="crossq", task="forward", total_steps=300, chunk_steps=100,
@@ -68,16 +103,10 @@ def trainer():
 
 @pytest.fixture(scope="session")
 def train_fns(trainer):
-    """jit(vmap(init)) and jit(vmap(chunk)) of the tiny run, plus a trace counter for the chunk."""
-    traces = {"chunk": 0}
-
-    def counted_chunk(carry, start):
-        traces["chunk"] += 1
-        return trainer.chunk(carry, start)
-
-    init = jax.jit(jax.vmap(trainer.init))
-    chunk = jax.jit(jax.vmap(counted_chunk, in_axes=(0, None)))
-    return init, chunk, traces
+    """jit(vmap(init)) and the compiled chunk of the tiny run for two seeds: the very program `runner.run` of
+    TINY_TRAIN with two seeds uses in this process, so tests that train it compile it once."""
+    built, _ = runner.program(trainer, 2)
+    return built.init, built.chunk
 
 
 def seed_keys(seeds):

@@ -2,6 +2,7 @@
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -13,11 +14,15 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from conftest import TINY_TRAIN
 from mjx_badger import checkpoints, results
+from mjx_badger.cli import main
 
-TRAIN = ["-m", "mjx_badger", "train", "--approach", "jt-nf", "--steps", "600", "--chunk-steps", "100",
-         "--warmup-steps", "100", "--eval-steps", "10", "--seeds", "2", "--quiet"]
-RESULT = "jt-nf_crossq_forward.json"
+# The tiny run of the other tests (conftest.TINY_TRAIN), two seeds: its program is compiled once per test run.
+TRAIN = ["train", "--approach", TINY_TRAIN.approach, "--task", TINY_TRAIN.task, "--steps", str(TINY_TRAIN.total_steps),
+         "--chunk-steps", str(TINY_TRAIN.chunk_steps), "--warmup-steps", str(TINY_TRAIN.warmup_steps), "--eval-steps",
+         str(TINY_TRAIN.eval_steps), "--seeds", "2", "--quiet"]
+RESULT = f"{TINY_TRAIN.name}.json"
 
 
 def _carry(scale: float):
@@ -79,36 +84,34 @@ def _without_clock(document: dict) -> dict:
 
 
 def test_a_run_killed_mid_way_resumes_to_the_uninterrupted_results(tmp_path):
+    """SIGKILL once two of the three chunks are written; the newest checkpoint is dropped, so the run
+    resumes from chunk 1 behind its results file (whose later rows must go) and ends as the whole run."""
+    assert main([*TRAIN, "--out", str(tmp_path / "whole")]) == 0  # in this process: the suite's tiny program
     env = dict(os.environ, CI="1")
-    whole = subprocess.run([sys.executable, *TRAIN, "--out", str(tmp_path / "whole")], env=env, capture_output=True,
-                           text=True, timeout=900)
-    assert whole.returncode == 0, whole.stderr[-2000:]
-
     out = tmp_path / "killed"
-    process = subprocess.Popen([sys.executable, *TRAIN, "--out", str(out)], env=env, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
+    process = subprocess.Popen([sys.executable, "-m", "mjx_badger", *TRAIN, "--out", str(out)], env=env,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     ckpt = checkpoints.folder(out / RESULT)
     deadline = time.time() + 900
-    # Kill it once a checkpoint exists and at least one chunk after it has run.
     while time.time() < deadline and process.poll() is None:
-        steps = [int(p.name) for p in ckpt.glob("*") if p.name.isdigit()] if ckpt.exists() else []
         try:
             done = json.loads((out / RESULT).read_text())["steps"]
         except (FileNotFoundError, json.JSONDecodeError):
             done = []
-        if steps and max(steps) < len(done) < 6:
+        if len(done) == 2 and (ckpt / "1").exists():
             break
-        time.sleep(0.05)
+        time.sleep(0.02)
     assert process.poll() is None, "the run ended before it could be killed mid-way"
     process.send_signal(signal.SIGKILL)
     process.wait()
+    shutil.rmtree(ckpt / "2", ignore_errors=True)  # as if killed between writing row 2 and its checkpoint
     interrupted = json.loads((out / RESULT).read_text())
-    assert not interrupted["complete"] and len(interrupted["steps"]) < 6
+    assert not interrupted["complete"] and len(interrupted["steps"]) == 2
 
-    resumed = subprocess.run([sys.executable, *TRAIN, "--out", str(out)], env=env, capture_output=True, text=True,
-                             timeout=900)
+    resumed = subprocess.run([sys.executable, "-m", "mjx_badger", *TRAIN, "--out", str(out)], env=env,
+                             capture_output=True, text=True, timeout=900)
     assert resumed.returncode == 0, resumed.stderr[-2000:]
-    assert "resuming" in resumed.stderr
+    assert f"resuming {RESULT} at step {TINY_TRAIN.chunk_steps}" in resumed.stderr
     expected, got = (results.read(Path(folder) / RESULT) for folder in (tmp_path / "whole", out))
     assert _without_clock(got) == _without_clock(expected)
     assert not ckpt.exists()  # a complete run keeps no checkpoints

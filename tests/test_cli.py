@@ -135,14 +135,12 @@ def test_realtime_refuses_what_a_robot_cannot_run(capsys):
     assert "control rate" in _fails(capsys, ["realtime", "--control-hz", "500"])
 
 
-def test_reproduce_reports_overall_progress_with_an_eta_from_the_measured_rate():
+def test_reproduce_reports_overall_progress_with_an_eta_once_a_run_has_ended():
     from mjx_badger.cli import overall_progress
 
-    assert overall_progress(0, 4, 0, 100, 0.0) == "run 1 of 4, 0 % of the gradient updates done"
-    # A quarter of the work in 0.5 h: the other three quarters take 1.5 h.
-    assert overall_progress(1, 4, 25, 100, 1800.0).endswith("25 % of the gradient updates done, ~1.5 h left at the rate so far")
-    # Half the updates in the first run, 900 of its 1800 s training: the 3 runs left cost 900 s each on top.
-    assert overall_progress(1, 4, 50, 100, 1800.0, train_s=900.0).endswith("~1.0 h left at the rate so far")
+    assert overall_progress(0, 4, 0, 100, None) == "run 1 of 4, 0 % of the gradient updates done"
+    assert overall_progress(1, 4, 25, 100, 5400.0).endswith("25 % of the gradient updates done, ~1.5 h left")
+    assert overall_progress(3, 4, 90, 100, 750.0).endswith("~12 min left")
 
 
 def test_train_takes_approach_algorithm_and_task_parameters_and_names_bad_ones(capsys):

@@ -9,7 +9,7 @@ import pytest
 import scipy.signal
 
 from conftest import seed_keys
-from mjx_badger import actions, curriculum, filters, protocols, tasks
+from mjx_badger import actions, curriculum, filters, protocols, runner, tasks
 from mjx_badger.agents import make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env, observation_layout
@@ -78,7 +78,7 @@ def _rule(env, data, power_steps=0):
 def _forward_data(env, data):
     from mujoco import mjx
 
-    return mjx.forward(env.mjx_model, data)
+    return jax.jit(mjx.forward)(env.mjx_model, data)  # one compile; op by op it is hundreds of small ones
 
 
 def test_termination_rules_of_the_code_and_the_text(env):
@@ -204,7 +204,9 @@ def _first_chunk(protocol: str, changes: tuple = ()):
     config = TrainConfig(protocol=protocol, protocol_changes=changes, **TINY)
     trainer = make_train(config)
     carry = jax.jit(jax.vmap(trainer.init))(seed_keys([0]))
-    carry, metrics = jax.jit(jax.vmap(trainer.chunk, in_axes=(0, None)))(carry, 0)
+    # The one-seed program runner.run uses (unbatched: it compiles in half the time of a vmapped batch of one),
+    # built here rather than taken from runner.program: some of these tests patch the env.
+    carry, metrics = jax.jit(runner.seeds_chunk(trainer, 1))(carry, 0)
     return trainer, carry, metrics
 
 

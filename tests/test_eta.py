@@ -1,0 +1,55 @@
+"""The ETA of `reproduce`: each remaining run's cost from its algorithm, task and steps, at the rates of the runs done."""
+
+import dataclasses
+import json
+from pathlib import Path
+
+import pytest
+
+from mjx_badger import eta
+from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
+from mjx_badger.train import TrainConfig
+
+QUICK = Path(__file__).parent.parent / "figures" / "data" / "quick" / "thesis-code"
+
+
+def _profile_in_order(profile: str) -> list:
+    """(experiment/file, planned) of every run `reproduce --profile` makes, in its order; repeats are copies."""
+    plans, seen = [], []
+    for name, experiment in EXPERIMENTS.items():
+        for run in experiment.runs:
+            config = experiment.train_config(run, profile)
+            plans.append((f"{name}/{result_name(run)}", eta.planned(config, PROFILES[profile].seeds, config in seen)))
+            seen.append(config)
+    return plans
+
+
+def test_after_the_first_run_the_eta_of_the_quick_profile_is_within_25_percent_of_the_time_left():
+    """Replayed on what the committed quick runs cost here (training seconds, compile seconds of each file)."""
+    cost = {}
+    for path in QUICK.glob("*/*.json"):
+        clock = json.loads(path.read_text())["wall_clock"]
+        cost[f"{path.parent.name}/{path.name}"] = (clock["run_s"], clock["compile_s"])
+    plans = _profile_in_order("quick")
+    actual = [0.0 if plan.copy else sum(cost[name]) for name, plan in plans]
+    for k in range(1, len(plans)):
+        done = [eta.Done(plan, *((0.0, 0.0) if plan.copy else cost[name])) for name, plan in plans[:k]]
+        left = eta.seconds_left([plan for _, plan in plans[k:]], done)
+        assert left == pytest.approx(sum(actual[k:]), rel=0.25), f"after run {k}"
+
+
+def test_the_eta_counts_updates_evaluations_and_copies():
+    forward = TrainConfig(approach="jt-nf", algo="crossq", task="forward", total_steps=2000, chunk_steps=1000,
+                          warmup_steps=1000, eval_steps=100)
+    plan = eta.planned(forward, seeds=2)
+    assert plan.work == 2 * (2000 + eta.UPDATE_COST * 1000 + 2 * 100)  # steps, updates after warm-up, evaluations
+    utd = eta.planned(dataclasses.replace(forward, algo="sac-utd20"), seeds=2)
+    assert utd.work == 2 * (2000 + eta.UPDATE_COST * 20 * 1000 + 2 * 100)
+    omni = eta.planned(dataclasses.replace(forward, task="omni-random", approach="cpg-d"), seeds=2)
+    assert omni.work == 2 * (2000 + eta.UPDATE_COST * 1000 + 2 * 8 * 100) and omni.other_weight > plan.other_weight
+    assert eta.seconds_left([plan], []) is None  # nothing measured yet
+    done = [eta.Done(plan, train_s=100.0, other_s=30.0)]
+    assert eta.seconds_left([plan, plan._replace(copy=True)], done) == pytest.approx(130.0)
+    assert eta.seconds_left([utd], done) == pytest.approx(utd.work / plan.work * 100.0 + 30.0)
+    # A task not seen yet: the compile and recording of the seen ones, scaled by its evaluation commands.
+    assert eta.seconds_left([omni], done) == pytest.approx(omni.work / plan.work * 100.0 + 30.0 * omni.other_weight)
