@@ -46,7 +46,17 @@ def test_swept_values_are_plain_fields_that_reach_what_they_set():
 def test_the_trainer_and_the_on_robot_loop_share_the_spec():
     robot_run = RealtimeConfig(approach="jt-lpf", approach_params=(("cutoff_hz", 2.0),), algo_params=(("batch_size", 64),))
     assert isinstance(robot_run, RunSpec) and robot_run.agent_config.batch_size == 64
-    shared = {f.name for f in dataclasses.fields(RunSpec)}
-    assert shared <= {f.name for f in dataclasses.fields(RealtimeConfig)} & {f.name for f in dataclasses.fields(TrainConfig)}
+    # Only the protocol's default differs (a robot observes as the text says); the rest of the spec is one.
+    base = {f.name: f for f in dataclasses.fields(RunSpec)}
+    for kind, overridden in ((RealtimeConfig, {"protocol"}), (TrainConfig, set())):
+        changed = {f.name for f in dataclasses.fields(kind) if f.name in base
+                   and (f.default, f.default_factory) != (base[f.name].default, base[f.name].default_factory)}
+        assert changed == overridden, kind
+    # The same spec fields build the same agent and task in both.
+    fields = dict(approach="jt-lpf", algo="sac", algo_params=(("batch_size", 64),), task_params=(("target_velocity", 0.3),))
+    trainer_run = TrainConfig(protocol="thesis-text", **fields)
+    robot_run = RealtimeConfig(**fields)
+    assert robot_run.agent_config == trainer_run.agent_config
+    assert robot_run.make_task().weights == trainer_run.make_task().weights
     with pytest.raises(ValueError, match="thesis-text protocol"):
         RealtimeConfig(protocol="thesis-code")
