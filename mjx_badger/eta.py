@@ -63,3 +63,10 @@ def seconds_left(remaining: list[Planned], done: list[Done]) -> float | None:
         return statistics.mean(same_task) if same_task else run.other_weight * per_weight
 
     return sum(0.0 if run.copy else run.work * per_work + other(run) for run in remaining)
+
+
+def replay(runs: list[tuple[Planned, tuple[float, float]]]) -> list[tuple[float, float]]:
+    """(ETA, seconds actually left) after each run but the last, for runs that cost (train_s, other_s) each."""
+    cost = [0.0 if plan.copy else train_s + other_s for plan, (train_s, other_s) in runs]
+    done = [Done(plan, *((0.0, 0.0) if plan.copy else spent)) for plan, spent in runs]
+    return [(seconds_left([plan for plan, _ in runs[k:]], done[:k]), sum(cost[k:])) for k in range(1, len(runs))]

@@ -106,13 +106,18 @@ def test_a_run_shared_by_two_experiments_is_found_and_reused(tmp_path):
                      [0, 1]) is None
 
 
-def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_path, monkeypatch):
+def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_path, monkeypatch, capsys):
     from mjx_badger import cli, results
     from mjx_badger.experiments import EXPERIMENTS
 
     experiment = EXPERIMENTS["forward"]
     ran = []
-    monkeypatch.setattr("mjx_badger.runner.run", lambda config, seeds, path, **kwargs: ran.append(path.name))
+
+    def fake_run(config, seeds, path, **kwargs):
+        ran.append(path.name)
+        return {"wall_clock": {"run_s": 0.0}}
+
+    monkeypatch.setattr("mjx_badger.runner.run", fake_run)
     monkeypatch.setattr("mjx_badger.plots.draw", lambda *args: [])
     monkeypatch.setattr("mjx_badger.render.draw", lambda *args: [])
     monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])
@@ -127,6 +132,9 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
     assert cli.main(["reproduce", "--profile", "smoke", "--experiments", "forward",
                      "--results-dir", str(tmp_path), "--figures-dir", str(tmp_path / "fig")]) == 0
     assert ran == ["jt-lpf_crossq_forward.json", "jt-oef_crossq_forward.json"]
+    progress = [line for line in capsys.readouterr().out.splitlines() if line.startswith("run ")]
+    assert progress[0] == "run 1 of 2, 0 % of the gradient updates done"  # nothing measured yet: no ETA
+    assert progress[1].startswith("run 2 of 2, 50 %") and progress[1].endswith("min left")
 
 
 def test_realtime_refuses_what_a_robot_cannot_run(capsys):

@@ -30,12 +30,9 @@ def test_after_the_first_run_the_eta_of_the_quick_profile_is_within_25_percent_o
     for path in QUICK.glob("*/*.json"):
         clock = json.loads(path.read_text())["wall_clock"]
         cost[f"{path.parent.name}/{path.name}"] = (clock["run_s"], clock["compile_s"])
-    plans = _profile_in_order("quick")
-    actual = [0.0 if plan.copy else sum(cost[name]) for name, plan in plans]
-    for k in range(1, len(plans)):
-        done = [eta.Done(plan, *((0.0, 0.0) if plan.copy else cost[name])) for name, plan in plans[:k]]
-        left = eta.seconds_left([plan for _, plan in plans[k:]], done)
-        assert left == pytest.approx(sum(actual[k:]), rel=0.25), f"after run {k}"
+    runs = [(plan, (0.0, 0.0) if plan.copy else cost[name]) for name, plan in _profile_in_order("quick")]
+    for k, (left, actual) in enumerate(eta.replay(runs), start=1):
+        assert left == pytest.approx(actual, rel=0.25), f"after run {k}"
 
 
 def test_the_eta_counts_updates_evaluations_and_copies():

@@ -1,0 +1,82 @@
+"""How far `reproduce`'s ETA (mjx_badger/eta.py) was from the time actually left, replayed on what a
+profile's runs cost here: after each run, the ETA from the runs before it against the sum of the rest.
+
+    python benchmarks/eta_replay.py --out benchmarks/results/eta_replay.json
+
+quick: the committed results (figures/data/quick/thesis-code), each run's training and compile
+seconds; smoke: benchmarks/results/smoke_profile_time.json (a fresh clone's smoke profile).
+"""
+
+import argparse
+import json
+from pathlib import Path
+
+from mjx_badger import eta, results
+from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
+
+ROOT = Path(__file__).parent.parent
+
+
+def in_order(profile: str) -> list:
+    """(experiment/file, planned, gradient updates) for every run `reproduce --profile` makes, in its order;
+    repeats are copies."""
+    plans, seen, seeds = [], [], PROFILES[profile].seeds
+    for name, experiment in EXPERIMENTS.items():
+        for run in experiment.runs:
+            config = experiment.train_config(run, profile)
+            updates = config.total_steps * config.agent_config.updates_per_step * seeds
+            plans.append((f"{name}/{result_name(run)}", eta.planned(config, seeds, config in seen), updates))
+            seen.append(config)
+    return plans
+
+
+def before(runs: list, updates: list) -> list:
+    """The ETA reproduce printed until 2026-12-02: training per gradient update and the rest per run, each at
+    the mean of the runs done (copies counted as runs)."""
+    out = []
+    for k in range(1, len(runs)):
+        train_s = sum(spent[0] for _, spent in runs[:k])
+        other_s = sum(spent[1] for _, spent in runs[:k])
+        done, total = sum(updates[:k]), sum(updates)
+        out.append((total - done) * train_s / done + (len(runs) - k) * other_s / k)
+    return out
+
+
+def quick_costs() -> dict:
+    folder = ROOT / "figures" / "data" / "quick" / "thesis-code"
+    return {f"{p.parent.name}/{p.name}": (results.read(p)["wall_clock"]["run_s"], results.read(p)["wall_clock"]["compile_s"])
+            for p in folder.glob("*/*.json")}
+
+
+def smoke_costs() -> dict:
+    runs = json.loads((ROOT / "benchmarks" / "results" / "smoke_profile_time.json").read_text())["runs"]
+    return {name: (run["run_s"], run["compile_s"]) for name, run in runs.items()}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "eta_replay.json")
+    args = parser.parse_args()
+    report = {"what": __doc__.splitlines()[0], "git_commit": results.git_commit(), "profiles": {}}
+    for profile, costs in (("quick", quick_costs()), ("smoke", smoke_costs())):
+        order = in_order(profile)
+        runs = [(plan, (0.0, 0.0) if plan.copy else costs[name]) for name, plan, _ in order]
+        old = before(runs, [updates for *_, updates in order])
+        rows = [{"after_run": k, "eta_s": round(left), "left_s": round(actual), "error": round(left / actual - 1, 3),
+                 "before_eta_s": round(old[k - 1]), "before_error": round(old[k - 1] / actual - 1, 3)}
+                for k, (left, actual) in enumerate(eta.replay(runs), start=1)]
+        summary = {"runs": len(runs), "of": len(rows), "rows": rows}
+        for key in ("error", "before_error"):
+            worst = max(rows, key=lambda row: abs(row[key]))
+            within = sum(abs(row[key]) <= 0.25 for row in rows)
+            summary[key.replace("error", "within_25_percent")] = within
+            summary[key.replace("error", "worst")] = {"after_run": worst["after_run"], "error": worst[key]}
+            print(f"{profile} ({'today' if key == 'error' else 'before'}): ETA within 25 % after {within} of "
+                  f"{len(rows)} runs; worst {worst[key]:+.0%} after run {worst['after_run']}")
+        report["profiles"][profile] = summary
+    args.out.write_text(json.dumps(report, indent=1) + "\n")
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()
