@@ -37,13 +37,18 @@ def compare(old: dict, new: dict) -> dict:
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("results_file", type=Path)
+    parser.add_argument("--keep", type=Path, help="a folder to keep the rerun in (its results, policy and agents)")
+    parser.add_argument("--json", type=Path, help="also write the comparison here")
     args = parser.parse_args()
     old = results.read(args.results_file)
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / args.results_file.name
+    with tempfile.TemporaryDirectory() as scratch:
+        path = Path(args.keep or scratch) / args.results_file.name
         runner.run(results.train_config(old), old["seeds"], path, progress=True)
         new = results.read(path)  # as written: JSON's null where the run had NaN, like the old file
-    print(json.dumps(compare(old, new), indent=1))
+    report = {"file": str(args.results_file), **compare(old, new)}
+    print(json.dumps(report, indent=1))
+    if args.json:
+        args.json.write_text(json.dumps(report, indent=1) + "\n")
 
 
 if __name__ == "__main__":

@@ -39,3 +39,18 @@ def publish(source: Path, target: Path) -> list[tuple[Path, str]]:
         results.write(out, copy)
         done.append((out, f"published with seed {copy['published_policy_seeds'][0]}'s policy"))
     return done
+
+
+def attach_policy(reference: Path, rerun: Path) -> int:
+    """Give the committed `reference` results file its best seed's policy from `rerun`, a rerun of it
+    whose every metric and gait record are identical (benchmarks/rerun_and_compare.py): the policy is
+    then the one the reference run would have saved. Returns the seed kept; ValueError if they differ."""
+    old, new = results.read(reference), results.read(rerun)
+    for field in ("config", "seeds", "steps", "metrics", "gait"):
+        if old.get(field) != new.get(field):
+            raise ValueError(f"{rerun} is not a number-for-number rerun of {reference}: its {field} is not the same")
+    seed, _ = analysis.best_seed(results.read(reference, leave_out_diverged=True))
+    name = Path(reference).with_suffix(".policy.npz").name
+    policy.keep_seeds(Path(rerun).parent / new["policy"], Path(reference).parent / name, [seed])
+    results.write(reference, dict(old, policy=name, published_policy_seeds=[seed]))
+    return seed

@@ -50,3 +50,19 @@ def test_publish_refuses_a_missing_source_and_its_own_folder(tmp_path, capsys):
         with pytest.raises(SystemExit) as done:
             cli.parse(argv)
         assert done.value.code == 2 and says in capsys.readouterr().err
+
+
+def test_a_committed_result_gets_its_policy_from_an_identical_rerun_only(tmp_path):
+    reference = _run(tmp_path / "reference", "run", [3.0, 9.0, 5.0])
+    document = results.read(reference)
+    reference.with_suffix(".policy.npz").unlink()
+    del document["policy"]
+    results.write(reference, document)  # a committed result without its policy
+    rerun = _run(tmp_path / "rerun", "run", [3.0, 9.0, 5.0])
+    assert publish.attach_policy(reference, rerun) == 1
+    attached = results.read(reference)
+    assert attached["published_policy_seeds"] == [1] and attached["metrics"] == document["metrics"]
+    assert policy.load(reference.parent / attached["policy"]).meta["seeds"] == [1]
+    other = _run(tmp_path / "other", "run", [3.0, 9.0, 5.5])
+    with pytest.raises(ValueError, match="its metrics is not the same"):
+        publish.attach_policy(reference, other)
