@@ -5,6 +5,7 @@ actor only (`analysis.best_seed`), so `evaluate` and `render` work on the refere
 straight from a clone. Incomplete runs, TensorBoard files and the whole agents stay behind.
 """
 
+import json
 from pathlib import Path
 
 from mjx_badger import analysis, policy, results
@@ -43,14 +44,21 @@ def publish(source: Path, target: Path) -> list[tuple[Path, str]]:
 
 def attach_policy(reference: Path, rerun: Path) -> int:
     """Give the committed `reference` results file its best seed's policy from `rerun`, a rerun of it
-    whose every metric and gait record are identical (benchmarks/rerun_and_compare.py): the policy is
+    whose every metric (of those the reference has) and gait record are identical (benchmarks/rerun_and_compare.py): the policy is
     then the one the reference run would have saved. Returns the seed kept; ValueError if they differ."""
+    reference, rerun = Path(reference), Path(rerun)
     old, new = results.read(reference), results.read(rerun)
-    for field in ("config", "seeds", "steps", "metrics", "gait"):
-        if old.get(field) != new.get(field):
+    # The rerun's schema may have grown: every config field and metric the reference has must be in it, the same.
+    shared = {name: new["metrics"].get(name) for name in old["metrics"]}
+    config = {name: new["config"].get(name) for name in old["config"]}
+    for field, mine, theirs in (("config", old["config"], config), ("seeds", old["seeds"], new["seeds"]),
+                                ("steps", old["steps"], new["steps"]), ("metrics", old["metrics"], shared),
+                                ("gait", old.get("gait"), new.get("gait"))):
+        if mine != theirs:
             raise ValueError(f"{rerun} is not a number-for-number rerun of {reference}: its {field} is not the same")
     seed, _ = analysis.best_seed(results.read(reference, leave_out_diverged=True))
-    name = Path(reference).with_suffix(".policy.npz").name
-    policy.keep_seeds(Path(rerun).parent / new["policy"], Path(reference).parent / name, [seed])
-    results.write(reference, dict(old, policy=name, published_policy_seeds=[seed]))
+    name = reference.with_suffix(".policy.npz").name
+    policy.keep_seeds(rerun.parent / new["policy"], reference.parent / name, [seed])
+    as_stored = json.loads(reference.read_text())  # not upgraded: the file keeps its own schema and numbers
+    results.write(reference, dict(as_stored, policy=name, published_policy_seeds=[seed]))
     return seed
