@@ -81,7 +81,7 @@ def jt_filter(kind: str, dt: float, protocol: Protocol, **params) -> filters.Fil
 
 # Thesis §4.3: foot offsets within +-0.15 m in x and y, +-0.1 m in z; frequency in [1, 4] Hz;
 # residual joint angles within +-[0.1, 0.2, 0.2]. The released code adds its offsets to joint
-# angles instead, within +-[0.15, 0.15, 0.10] rad (THESIS_CODE §2).
+# angles instead, within +-[0.15, 0.15, 0.10] rad (docs/thesis-code.md §2).
 FOOT_OFFSET_SCALE = np.tile([0.15, 0.15, 0.1], 4).astype(np.float32)
 JOINT_OFFSET_SCALE = FOOT_OFFSET_SCALE
 CPG_FREQUENCY_HZ = 2.0

@@ -10,7 +10,7 @@ commanded speed while the mean lateral velocity and yaw rate stay within 0.05 (m
 at most once per episode. We read "averaged over 400 steps" as the absolute value of the mean.
 
 `Rules` holds the choices on which the thesis text and the released code
-(`honey_badger_*/command_functions/curriculum.py`, THESIS_CODE §7) differ; `RULES` names the
+(`honey_badger_*/command_functions/curriculum.py`, docs/thesis-code.md §7) differ; `RULES` names the
 two sets. State is a NamedTuple of arrays, so one curriculum per seed runs under vmap.
 """
 

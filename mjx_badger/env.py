@@ -43,7 +43,7 @@ from mjx_badger import actions, protocols, rewards, robot, tasks
 from mjx_badger.protocols import Protocol
 
 # Fixed scale factors that bring each block to order one (thesis-text), and the released
-# code's divisors (thesis-code, THESIS_CODE §4: q / 3.14, qdot / 25, action / 3.14, omega / 10).
+# code's divisors (thesis-code, docs/thesis-code.md §4: q / 3.14, qdot / 25, action / 3.14, omega / 10).
 TEXT_SCALES = {"joint_angle": 1.0, "joint_velocity": 0.1, "predicted_joint_angle": 1.0, "predicted_feet_position": 5.0,
                "trunk_linear_acceleration": 0.1, "trunk_angular_acceleration": 0.01, "trunk_angular_velocity": 1.0}
 CODE_SCALES = {"joint_angle": 1 / 3.14, "joint_velocity": 1 / 25, "predicted_joint_angle": 1 / 3.14,
@@ -66,7 +66,7 @@ def observation_layout(action_space: actions.ActionSpace, protocol: Protocol = p
 # A foot touches the floor when its sphere centre is within this of the sphere radius (flat ground).
 CONTACT_TOLERANCE_M = 0.003
 # thesis-text termination (our reading): the robot's own fall rule (RobotSpec.fall_tilt_rad, fall_height).
-# thesis-code termination (THESIS_CODE §6).
+# thesis-code termination (docs/thesis-code.md §6).
 CODE_FALL_TILT_RAD = np.deg2rad(30.0)
 CODE_FALL_ANGULAR_SPEED = 4.0
 CODE_POWER_LIMIT_W = 1500.0

@@ -1,4 +1,4 @@
-"""Registry of the thesis experiments and the profiles they run at (DESIGN.md)."""
+"""Registry of the thesis experiments and the profiles they run at."""
 
 import dataclasses
 

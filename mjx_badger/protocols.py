@@ -1,7 +1,7 @@
 """The two protocols: the thesis as its released code ran it, and the thesis as its text reads.
 
 A protocol is one frozen object; every place the two differ is a named field whose docstring
-cites its source (THESIS_CODE.md sections for `thesis-code`, the thesis text for
+cites its source (docs/thesis-code.md sections for `thesis-code`, the thesis text for
 `thesis-text`). The environment, the action pipelines, the tasks, the agents and the trainer
 read these fields and nothing else, so a one-factor swap (one field set to the other
 protocol's value) is `protocol.replace(field=value)`.
@@ -19,9 +19,9 @@ class Protocol:
     name: str
     jt_pd_gains: tuple
     """(Kp, Kd) of the joint-target approaches. Code: PDControl defaults 25 / 1, the scripts' 60 / 3
-    never reach it (THESIS_CODE §2 'JT bug'). Text: silent; the scripts' 60 / 3."""
+    never reach it (docs/thesis-code.md §2 'JT bug'). Text: silent; the scripts' 60 / 3."""
     cpg_pd_gains: tuple
-    """(Kp, Kd) of the CPG approaches: 60 / 3 in both (THESIS_CODE §2; scripts)."""
+    """(Kp, Kd) of the CPG approaches: 60 / 3 in both (docs/thesis-code.md §2; scripts)."""
     jt_control_hz: float | None
     """JT control rate. Code: 50 Hz, the PD default (§2). Text: None, the algorithm's rate (Table 4.3: CrossQ 40, others 20)."""
     cpg_control_hz: float | None
@@ -59,7 +59,7 @@ class Protocol:
     gravity, CPG block = the two swing heights (§4). Text: 'thesis-text', Table 4.1 with our scales."""
     rewards: str
     """Code: 'thesis-code' forms: track_x with |yaw|, max_x unclipped, track_xy with 0.5 |yaw error|
-    and no energy term (§5). Text: 'thesis-text', Tables 4.5 and 4.6 as DESIGN.md reads them."""
+    and no energy term (§5). Text: 'thesis-text', Tables 4.5 and 4.6 as this suite reads them (README, Readings and choices)."""
     curriculum: str
     """PDEC rules (`curriculum.RULES`). Code: 'thesis-code', the released curriculum.py: the halves grow
     until they meet, 50/50 halves until each has a bin, 0.25 m/s until complete, learned-region

@@ -7,7 +7,7 @@ def velocity_tracking(vx, target):
     """Table 4.5 tracking term: plateau 1 on [v_t, 2 v_t], 0 at <= -v_t and >= 4 v_t.
 
     The printed formula jumps at 2 v_t; we read it as linear ramps -v_t -> v_t and
-    2 v_t -> 4 v_t (DESIGN.md).
+    2 v_t -> 4 v_t, as the README's Readings and choices say.
     """
     rise = (vx + target) / (2 * target)
     fall = (4 * target - vx) / (2 * target)
@@ -15,7 +15,7 @@ def velocity_tracking(vx, target):
 
 
 def velocity_tracking_code(vx, target):
-    """The released code's track_x term (THESIS_CODE §5): 1 on [v_t, 2 v_t], 0 at <= -v_t and >= 4 v_t,
+    """The released code's track_x term (docs/thesis-code.md §5): 1 on [v_t, 2 v_t], 0 at <= -v_t and >= 4 v_t,
     else 1 - |v - v_t| / (2 v_t). It jumps to 0.5 just above 2 v_t and is negative on (3 v_t, 4 v_t)."""
     inside = (vx > -target) & (vx < 4 * target)
     plateau = (vx >= target) & (vx <= 2 * target)
@@ -66,7 +66,7 @@ def along_and_lateral(velocity_xy, target_xy):
 
 
 def forward_minus_lateral(velocity_xy):
-    """Table 4.6 velocity term read as v_x - |v_y| (DESIGN.md)."""
+    """Table 4.6 velocity term read as v_x - |v_y|, as the README's Readings and choices say."""
     return velocity_xy[..., 0] - jnp.abs(velocity_xy[..., 1])
 
 

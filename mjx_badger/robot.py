@@ -1,7 +1,7 @@
 """The HB40 robot description: every figure of the robot in one frozen spec, and its MJCF built from it.
 
 The figures are those of the thesis's released code's model (`gait_in_eight`, plane.xml, as
-THESIS_CODE.md §1 records them), rebuilt by us with primitive geoms. Joint-zero convention
+docs/thesis-code.md §1 records them), rebuilt by us with primitive geoms. Joint-zero convention
 (theirs): hip 0 = leg in the trunk's x-z plane; thigh 0 = thigh pointing straight backward,
 horizontal; knee 0 = folded back onto the thigh with 13.3 degrees between the links. The
 joint axes are mirrored so that one set of angles means the same posture on every leg up to
@@ -152,7 +152,7 @@ HB40_FIRST_VERSION = RobotSpec(
     nominal=(0.1, -0.6, 1.2),
     home_height=0.36,
 )
-"""The HB40 of this suite's first version (thesis-text figures, before THESIS_CODE.md): legs in one
+"""The HB40 of this suite's first version (thesis-text figures, before the released code was read: docs/thesis-code.md): legs in one
 plane below the hips, thigh zero pointing down and knee zero straight, the inertias of uniform
 solids, and the thesis nominal pose read with thigh 0.6 rad behind vertical and the calf 0.6 rad
 ahead of it (feet 0.33 m below the hips). Contacts and solver are the HB40's, so a swap to it

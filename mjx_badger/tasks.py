@@ -44,7 +44,7 @@ TARGET_VELOCITY = 0.5
 FORWARD_WEIGHTS = {"velocity": 1.0, "yaw": -0.1, "roll_pitch": -10.0, "energy": -0.0003}
 MAX_VELOCITY_WEIGHTS = {"velocity": 2.0, "yaw": -0.1, "roll_pitch": -10.0}
 OMNI_WEIGHTS = {"velocity": 1.0, "yaw": -0.1, "roll_pitch": -10.0, "energy": -0.0003}
-# The released code's track_xy: 0.5 |yaw-rate error|, no energy term (THESIS_CODE §5).
+# The released code's track_xy: 0.5 |yaw-rate error|, no energy term (docs/thesis-code.md §5).
 OMNI_WEIGHTS_CODE = {"velocity": 1.0, "yaw": -0.5, "roll_pitch": -10.0}
 LATERAL_PENALTY_WEIGHT = -1.0
 REWARD_SCALE = 10.0

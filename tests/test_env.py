@@ -21,7 +21,7 @@ def test_observation_layout_is_table_4_1(env, env_fns):
 
 
 def test_episode_and_rates_follow_the_protocol(env):
-    # thesis-code: JT at 50 Hz (4 physics steps), CPG at 40 Hz (5), 10 s episodes (THESIS_CODE §2, §6).
+    # thesis-code: JT at 50 Hz (4 physics steps), CPG at 40 Hz (5), 10 s episodes (docs/thesis-code.md §2, §6).
     assert env.substeps == 4 and env.episode_steps == 500
     assert env.mj_model.actuator_gainprm[0, 0] == 25.0 and env.mj_model.actuator_biasprm[0, 2] == -1.0
     cpg = HB40Env("cpg-d", "forward")

@@ -50,7 +50,7 @@ def test_every_approach_and_task_runs_a_vmapped_smoke_episode(approach, task):
     expected_obs = 56 if actions.is_cpg(approach) else 54
     assert env.observation_size == expected_obs and obs.shape == (SEEDS, STEPS, expected_obs)
     assert np.isfinite(np.asarray(obs)).all() and np.isfinite(np.asarray(reward)).all()
-    if task != "forward-max":  # the released max_x reward is unclipped (THESIS_CODE §5)
+    if task != "forward-max":  # the released max_x reward is unclipped (docs/thesis-code.md §5)
         assert (np.asarray(reward) >= 0).all()
     assert np.asarray(done).sum(axis=1).min() >= 2  # every seed finished episodes and carried on
     for name, values in metrics.items():

@@ -50,7 +50,7 @@ def test_model_figures_are_the_thesis_codes():
 
 
 def test_nominal_pose_puts_each_foot_where_the_thesis_code_model_does():
-    """Their nominal pose: each foot ~0.252 m below and ~0.102 m outboard of its hip (THESIS_CODE §1)."""
+    """Their nominal pose: each foot ~0.252 m below and ~0.102 m outboard of its hip (docs/thesis-code.md §1)."""
     model = robot.load_model()
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
@@ -78,7 +78,7 @@ def test_forward_kinematics_matches_native_mujoco_and_inverts():
 
 
 def test_thesis_code_ik_stands_the_feet_0_30_m_below_the_hips():
-    """THESIS_CODE §2: the code's IK asks for 0.25 m but its angles on the model give ~0.30 m."""
+    """docs/thesis-code.md §2: the code's IK asks for 0.25 m but its angles on the model give ~0.30 m."""
     angles = kinematics.thesis_code_ik(np.asarray([[0.05, 0.02 * s, -0.25] for s in robot.HB40.left_sign]))
     feet = np.asarray(kinematics.forward(angles))
     np.testing.assert_allclose(-feet[:, 2], 0.303, atol=0.005)
@@ -110,7 +110,7 @@ def test_first_version_robot_stands_its_feet_in_one_plane_0_33_m_below_the_hips(
 
 
 def test_settles_at_the_thesis_code_heights():
-    """THESIS_CODE §1: dropped from 0.316 m the model settles at 0.262 m (Kp 60 / Kd 3), 0.244 m (Kp 25 / Kd 1)."""
+    """docs/thesis-code.md §1: dropped from 0.316 m the model settles at 0.262 m (Kp 60 / Kd 3), 0.244 m (Kp 25 / Kd 1)."""
     for (kp, kd), expected in (((60.0, 3.0), 0.262), ((25.0, 1.0), 0.244)):
         model = robot.load_model()
         data = _standing_data(model, kp, kd)
