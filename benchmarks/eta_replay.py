@@ -12,22 +12,8 @@ import json
 from pathlib import Path
 
 from mjx_badger import eta, results
-from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
 
 ROOT = Path(__file__).parent.parent
-
-
-def in_order(profile: str) -> list:
-    """(experiment/file, planned, gradient updates) for every run `reproduce --profile` makes, in its order;
-    repeats are copies."""
-    plans, seen, seeds = [], [], PROFILES[profile].seeds
-    for name, experiment in EXPERIMENTS.items():
-        for run in experiment.runs:
-            config = experiment.train_config(run, profile)
-            updates = config.total_steps * config.agent_config.updates_per_step * seeds
-            plans.append((f"{name}/{result_name(run)}", eta.planned(config, seeds, config in seen), updates))
-            seen.append(config)
-    return plans
 
 
 def before(runs: list, updates: list) -> list:
@@ -59,7 +45,7 @@ def main():
     args = parser.parse_args()
     report = {"what": __doc__.splitlines()[0], "git_commit": results.git_commit(), "profiles": {}}
     for profile, costs in (("quick", quick_costs()), ("smoke", smoke_costs())):
-        order = in_order(profile)
+        order = eta.profile_plan(profile)
         runs = [(plan, (0.0, 0.0) if plan.copy else costs[name]) for name, plan, _ in order]
         old = before(runs, [updates for *_, updates in order])
         rows = [{"after_run": k, "eta_s": round(left), "left_s": round(actual), "error": round(left / actual - 1, 3),

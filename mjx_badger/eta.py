@@ -70,3 +70,18 @@ def replay(runs: list[tuple[Planned, tuple[float, float]]]) -> list[tuple[float,
     cost = [0.0 if plan.copy else train_s + other_s for plan, (train_s, other_s) in runs]
     done = [Done(plan, *((0.0, 0.0) if plan.copy else spent)) for plan, spent in runs]
     return [(seconds_left([plan for plan, _ in runs[k:]], done[:k]), sum(cost[k:])) for k in range(1, len(runs))]
+
+
+def profile_plan(profile: str) -> list[tuple[str, Planned, int]]:
+    """(experiment/file, planned, gradient updates) of every run `reproduce --profile` makes, in its order;
+    a run repeating an earlier one's configuration is a copy."""
+    from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
+
+    plans, seen, seeds = [], [], PROFILES[profile].seeds
+    for name, experiment in EXPERIMENTS.items():
+        for run in experiment.runs:
+            config = experiment.train_config(run, profile)
+            updates = config.total_steps * config.agent_config.updates_per_step * seeds
+            plans.append((f"{name}/{result_name(run)}", planned(config, seeds, config in seen), updates))
+            seen.append(config)
+    return plans

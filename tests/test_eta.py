@@ -7,21 +7,9 @@ from pathlib import Path
 import pytest
 
 from mjx_badger import eta
-from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
 from mjx_badger.train import TrainConfig
 
 QUICK = Path(__file__).parent.parent / "figures" / "data" / "quick" / "thesis-code"
-
-
-def _profile_in_order(profile: str) -> list:
-    """(experiment/file, planned) of every run `reproduce --profile` makes, in its order; repeats are copies."""
-    plans, seen = [], []
-    for name, experiment in EXPERIMENTS.items():
-        for run in experiment.runs:
-            config = experiment.train_config(run, profile)
-            plans.append((f"{name}/{result_name(run)}", eta.planned(config, PROFILES[profile].seeds, config in seen)))
-            seen.append(config)
-    return plans
 
 
 def test_after_the_first_run_the_eta_of_the_quick_profile_is_within_25_percent_of_the_time_left():
@@ -30,7 +18,7 @@ def test_after_the_first_run_the_eta_of_the_quick_profile_is_within_25_percent_o
     for path in QUICK.glob("*/*.json"):
         clock = json.loads(path.read_text())["wall_clock"]
         cost[f"{path.parent.name}/{path.name}"] = (clock["run_s"], clock["compile_s"])
-    runs = [(plan, (0.0, 0.0) if plan.copy else cost[name]) for name, plan in _profile_in_order("quick")]
+    runs = [(plan, (0.0, 0.0) if plan.copy else cost[name]) for name, plan, _ in eta.profile_plan("quick")]
     for k, (left, actual) in enumerate(eta.replay(runs), start=1):
         assert left == pytest.approx(actual, rel=0.25), f"after run {k}"
 
