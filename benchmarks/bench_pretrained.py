@@ -23,7 +23,8 @@ from mjx_badger import enable_compilation_cache, results
 from mjx_badger.analysis import REACHED_FRACTION
 from mjx_badger.realtime import loop, report
 from mjx_badger.realtime.config import RealtimeConfig
-from mjx_badger.realtime.simulated import SensorNoise, SimulatedHB40
+from mjx_badger import sensors
+from mjx_badger.realtime.simulated import SimulatedHB40
 
 OUT = Path(__file__).parent / "results" / "pretrained.json"
 DEFAULT_RESULTS = Path("results/quick/thesis-text/forward/jt-oef_crossq_forward.json")
@@ -42,7 +43,7 @@ def first_reached(train_s: np.ndarray, velocity: np.ndarray, threshold: float, h
 
 
 def one_run(config: RealtimeConfig, folder: Path) -> dict:
-    bot = SimulatedHB40(noise=SensorNoise(), reset_seconds=2.0, seed=config.seed, spec=config.robot_spec)
+    bot = SimulatedHB40(noise=sensors.SensorModel(), reset_seconds=2.0, seed=config.seed, spec=config.robot_spec)
     document = loop.run(config, bot, folder, resume=False, view=False)
     trace = loop.load_trace(folder, config)
     train_s, true_vx = report.column(trace, "train_s"), report.column(trace, "true_vx")

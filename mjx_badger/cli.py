@@ -1,4 +1,5 @@
-"""Command line: `python -m mjx_badger {train,sweep,reproduce,figures,claims,publish,attribute,realtime,list}`.
+"""Command line: `python -m mjx_badger {train,sweep,reproduce,figures,claims,publish,attribute,realtime,evaluate,render,
+estimator,list}`.
 
 tyro builds every option from the dataclasses below and the run specs they hold
 (TrainConfig, RealtimeConfig), so each option is declared once, its docstring its help.
@@ -23,6 +24,7 @@ import tyro
 from mjx_badger import enable_compilation_cache
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
+from mjx_badger.estimator_commands import Estimator
 from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
 from mjx_badger.protocols import FIELDS, PROTOCOLS
 from mjx_badger.realtime.config import RealtimeConfig
@@ -380,11 +382,12 @@ class Realtime:
     def __call__(self) -> int:
         from mjx_badger import plots
         from mjx_badger.realtime import loop
-        from mjx_badger.realtime.simulated import SensorNoise, SimulatedHB40
+        from mjx_badger import sensors
+        from mjx_badger.realtime.simulated import SimulatedHB40
 
         config = self.run
         # A real robot's adapter (interface.Robot) goes here in place of the simulated one.
-        bot = SimulatedHB40(noise=None if self.no_sensor_noise else SensorNoise(), reset_seconds=self.reset_seconds,
+        bot = SimulatedHB40(noise=None if self.no_sensor_noise else sensors.SensorModel(), reset_seconds=self.reset_seconds,
                             seed=config.seed, spec=config.robot_spec)
         try:
             document = loop.run(config, bot, self.out, resume=not self.restart, view=not self.quiet)
@@ -517,7 +520,8 @@ class List:
 
 
 COMMANDS = {"train": Train, "sweep": Sweep, "reproduce": Reproduce, "figures": Figures, "claims": Claims,
-            "publish": Publish, "attribute": Attribute, "realtime": Realtime, "evaluate": Evaluate, "render": Render, "list": List}
+            "publish": Publish, "attribute": Attribute, "realtime": Realtime, "evaluate": Evaluate, "render": Render,
+            "estimator": Estimator, "list": List}
 
 
 def one_line(box: str) -> str:

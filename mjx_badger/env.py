@@ -39,7 +39,7 @@ with contextlib.redirect_stdout(io.StringIO()):
     from brax.envs.base import Env, State
     from mujoco import mjx
 
-from mjx_badger import actions, protocols, rewards, robot, tasks
+from mjx_badger import actions, estimators, protocols, rewards, robot, sensors, tasks
 from mjx_badger.protocols import Protocol
 
 # Fixed scale factors that bring each block to order one (thesis-text), and the released
@@ -86,6 +86,8 @@ class EnvConfig:
     """Policy rate; None: the protocol's rate for the approach, trained by CrossQ. Physics runs at 200 Hz."""
     protocol: Protocol = protocols.THESIS_CODE
     """Every choice on which the thesis's code and text differ (protocols.py)."""
+    sensing: sensors.Sensing | None = None
+    """The robot's own senses: noisy sensors and its velocity estimate, reported beside the truth (None: off)."""
 
     def rate(self, approach: str) -> float:
         """The control rate of `approach` under this configuration."""
@@ -124,6 +126,10 @@ class HB40Env(Env):
         self._feet = np.array([self.mj_model.geom(name).id for name in spec.foot_geoms])
         self._accel = robot.sensor_slice(self.mj_model, "accelerometer")
         self._gyro = robot.sensor_slice(self.mj_model, "gyro")
+        self.sensing = self.config.sensing
+        if self.sensing is not None:
+            self._estimator = estimators.make(self.sensing.estimator, self.sensing.kalman, spec,
+                                              self.sensing.estimator_file)
         self._trunk_half = jnp.asarray(spec.trunk_half_size)
         data = mujoco.MjData(self.mj_model)
         data.qpos[:] = robot.standing_qpos(self.mj_model, spec)
@@ -154,6 +160,10 @@ class HB40Env(Env):
         task_state, drawn = self.task.command(self.task.init() if task_state is None else task_state, command_key)
         command = drawn if command is None else jnp.asarray(command, dtype=jnp.float32)
         data, obs, episode = self._fresh_episode(command)
+        if self.sensing is not None:
+            # The IMU's biases are the robot's: drawn once, carried across its episodes.
+            key, bias_key = jax.random.split(key)
+            episode["sensor_state"] = sensors.init(self.sensing.sensors, bias_key)
         info = {
             "rng": key,
             **episode,
@@ -189,13 +199,15 @@ class HB40Env(Env):
                 data = mjx.step(self.mjx_model, data.replace(ctrl=ctrl))
             if clip is not None:
                 data = data.replace(qvel=data.qvel.at[6:].set(jnp.clip(data.qvel[6:], -clip, clip)))
-            return (data, torque), self._trace(data)
+            imu = data.sensordata[self._accel] if self.sensing is not None else None
+            return (data, torque), (self._trace(data), imu)
 
         # The torque carry starts from `target` so that under vmap it is batched from the start: an unbatched
         # carry that turns batched makes vmap batch the whole MJX step a second time (seconds of tracing).
-        (data, torque), trace = jax.lax.scan(physics_step, (state.pipeline_state, 0.0 * target),
-                                             jnp.arange(self.substeps))
-        state = self.end_step(state, data, action_state, target, torque, keys[0])
+        (data, torque), (trace, imu) = jax.lax.scan(physics_step, (state.pipeline_state, 0.0 * target),
+                                                    jnp.arange(self.substeps))
+        acceleration = None if imu is None else jnp.mean(imu, axis=0)
+        state = self.end_step(state, data, action_state, target, torque, keys[0], acceleration)
         return self._auto_reset(state, keys[1]), trace
 
     def begin_step(self, info: dict, action: jax.Array):
@@ -209,11 +221,13 @@ class HB40Env(Env):
         """The PD torque before the motor limit: what the released code's power rule and energy term see."""
         return self._kp * (ctrl[:12] - qpos[7:]) - self._kd * qvel[6:]
 
-    def end_step(self, state: State, data, action_state, target, torque, key: jax.Array) -> State:
+    def end_step(self, state: State, data, action_state, target, torque, key: jax.Array, acceleration=None) -> State:
         """A control step after its physics, before any reset: observe, score, count and end episodes.
 
-        `data` is the mjx.Data, or native MuJoCo's view of the same fields (native.py)."""
+        `data` is the mjx.Data, or native MuJoCo's view of the same fields (native.py); `acceleration` the
+        accelerometer's mean over the step's physics (only read when the env senses)."""
         info = state.info
+        senses = self._sense(info, data, acceleration, key) if self.sensing is not None else {}
         command = info["command"]
         obs, motion = self._observe(data, action_state, command, info["prev_gyro"], torque)
         reward, contributions = self.task.reward(motion, command)
@@ -246,6 +260,9 @@ class HB40Env(Env):
             desired_error=jnp.abs(along - jnp.linalg.norm(command[:2])),
             **self.task.progress(task_state),
         )
+        if senses:
+            metrics.update(estimated_forward_velocity=senses["estimate"][0],
+                           estimated_lateral_velocity=senses["estimate"][1])
         info = dict(
             info,
             rng=key,
@@ -264,8 +281,25 @@ class HB40Env(Env):
             terminated=terminated,
             truncated=truncated,
             next_obs=obs,
+            **senses,
         )
         return State(data, obs, reward, done.astype(jnp.float32), metrics, info)
+
+    def _sense(self, info: dict, data, acceleration, key) -> dict:
+        """The sensors' reading of this step and the estimator's velocity from it (trunk frame).
+
+        The accelerometer is read as its mean over the control period (an IMU's low-pass at the read rate);
+        the contacts the reading carries are estimated from its motor torques."""
+        if acceleration is None:
+            acceleration = data.sensordata[self._accel]
+        truth = sensors.truth(data, self._trunk, acceleration, data.sensordata[self._gyro], data.qfrc_actuator[6:])
+        sensor_state, reading = sensors.read(self.sensing.sensors, info["sensor_state"], truth,
+                                             sensors.draw(jax.random.fold_in(key, 1)), self.control_dt)
+        reading = reading._replace(contacts=estimators.estimated_contacts(reading.joint_angle, reading.joint_torque,
+                                                                          reading.rotation, self.spec))
+        estimator_state, estimate = self._estimator.step(info["estimator_state"], reading, self.control_dt)
+        return {"sensor_state": sensor_state, "estimator_state": estimator_state, "estimate": estimate,
+                "reading": reading}
 
     def _fall_rule(self, data, motion, power_steps):
         """Whether the protocol's termination rule fires on this step."""
@@ -288,6 +322,11 @@ class HB40Env(Env):
         obs, _ = self._observe(data, action_state, command, gyro, jnp.zeros(12))
         episode = {"action_state": action_state, "target": self.action_space.rest_ctrl(), "command": command,
                    "prev_gyro": gyro, "step": jnp.int32(0), "power_steps": jnp.int32(0)}
+        if self.sensing is not None:  # a reset recalibrates the estimator: standing still, and sure of it
+            truth = sensors.truth(data, self._trunk, data.sensordata[self._accel], gyro, jnp.zeros(12))
+            _, reading = sensors.read(sensors.EXACT, sensors.init(sensors.EXACT), truth, sensors.no_draws(),
+                                      self.control_dt)
+            episode.update(estimator_state=self._estimator.init(), estimate=jnp.zeros(3), reading=reading)
         return data, obs, episode
 
     def _auto_reset(self, state: State, key: jax.Array) -> State:
@@ -352,4 +391,6 @@ class HB40Env(Env):
         names = [f"reward/{name}" for name in self.task.weights]
         names += ["forward_velocity", "lateral_velocity", "yaw_rate", "height", "desired_velocity",
                   "command_lateral_velocity", "desired_error"]
+        if self.sensing is not None:
+            names += ["estimated_forward_velocity", "estimated_lateral_velocity"]
         return names + list(self.task.progress(self.task.init()))

@@ -8,13 +8,14 @@ rotate what was integrated.
 - `kinematic-kalman` (§2.6.1): a linear Kalman filter predicting with the IMU's specific
   force rotated to the world plus gravity and correcting with leg odometry, the trunk
   velocity a foot standing still on the ground implies, v = -(dp/dt + omega x p), averaged
-  over the feet weighted by `reading.contacts`. The thesis's robot took all four feet to be
-  on the ground (contacts all one); swinging feet then pull the mean toward zero, and the
-  estimate runs low (its Fig 2.1). Contacts from a gait plan or a contact estimate are the
-  contact-aware variant.
+  over all four feet, as the thesis's robot did (its policy gives no gait plan): swinging
+  feet pull the mean toward zero, and the estimate runs low (its Fig 2.1).
+- `kinematic-kalman-contact`: the same filter with each foot weighted by `reading.contacts`
+  (a gait plan, or `estimated_contacts` from the motor torques).
 - `integration` (§2.6.2): the same world-frame acceleration integrated by the trapezoidal
   rule, with no correction: it follows the truth after a reset and drifts with every bias
   of the IMU, until the next reset recalibrates it.
+- a learned estimator (§2.6.3) from a file written by `estimator fit` (learned_estimator.py).
 """
 
 import dataclasses
@@ -44,7 +45,9 @@ class Reading(NamedTuple):
     rotation: jax.Array
     """(3, 3) trunk-to-world rotation from the IMU's orientation."""
     contacts: jax.Array
-    """(4,) weight of each foot's odometry, 1 on the ground and 0 in the air (all ones: the thesis's robot)."""
+    """(4,) how surely each foot is on the ground, 1 on it and 0 in the air (a plan, or estimated_contacts)."""
+    joint_torque: jax.Array
+    """(12,) motor torques from the drivers' current (N m)."""
 
 
 class KalmanState(NamedTuple):
@@ -78,6 +81,23 @@ def leg_odometry(joint_angle, joint_velocity, angular_velocity, spec: RobotSpec 
     return -(feet_velocity + jnp.cross(angular_velocity, in_trunk))
 
 
+def foot_forces(joint_angle, joint_torque, rotation, spec: RobotSpec = HB40) -> jax.Array:
+    """(4,) the ground's vertical push on each foot (N) that the motor torques imply, tau = J^T f per leg (the legs'
+    own weight and inertia neglected)."""
+    jacobian = jax.jacfwd(functools.partial(kinematics.forward, spec=spec))(joint_angle)  # (legs, 3, 12)
+    legs = len(spec.legs)
+    per_leg = jnp.stack([jacobian[i, :, 3 * i:3 * i + 3] for i in range(legs)])  # (legs, 3, 3)
+    force = jnp.linalg.solve(jnp.swapaxes(per_leg, 1, 2), joint_torque.reshape(legs, 3, 1))[..., 0]
+    return -(force @ rotation.T)[:, 2]  # the motors push the foot down: the ground pushes it up
+
+
+def estimated_contacts(joint_angle, joint_torque, rotation, spec: RobotSpec = HB40, low: float = 10.0,
+                       high: float = 30.0) -> jax.Array:
+    """(4,) contact weights from the motor torques: 0 below `low` N of ground force on a foot, 1 above `high`
+    (a force threshold, the usual contact estimate without foot sensors; the robot weighs about 120 N)."""
+    return jnp.clip((foot_forces(joint_angle, joint_torque, rotation, spec) - low) / (high - low), 0.0, 1.0)
+
+
 def _standing() -> KalmanState:
     """Still, and sure of it; at rest the world-frame acceleration (specific force plus gravity) is zero."""
     return KalmanState(jnp.zeros(3), jnp.eye(3) * 1e-4, jnp.zeros(3))
@@ -87,14 +107,14 @@ def _world_acceleration(reading: Reading) -> jax.Array:
     return reading.rotation @ reading.acceleration + GRAVITY
 
 
-def kinematic_kalman(config: KalmanConfig = KalmanConfig(), spec: RobotSpec = HB40) -> Estimator:
-    """§2.6.1: IMU prediction, leg-odometry correction weighted by the reading's contacts."""
+def kinematic_kalman(config: KalmanConfig = KalmanConfig(), spec: RobotSpec = HB40, contacts: bool = False) -> Estimator:
+    """§2.6.1: IMU prediction, leg-odometry correction over all four feet, or weighted by the reading's `contacts`."""
 
     def step(state: KalmanState, reading: Reading, dt):
         acceleration = _world_acceleration(reading)
         velocity = state.velocity + acceleration * dt
         covariance = state.covariance + jnp.eye(3) * (config.acceleration_std * dt) ** 2
-        weights = jnp.asarray(reading.contacts, jnp.float32)
+        weights = jnp.asarray(reading.contacts, jnp.float32) if contacts else jnp.ones(len(spec.legs), jnp.float32)
         total = jnp.sum(weights)
         odometry = leg_odometry(reading.joint_angle, reading.joint_velocity, reading.angular_velocity, spec)
         measured = reading.rotation @ (weights @ odometry / jnp.maximum(total, 1e-6))
@@ -121,12 +141,29 @@ def integration(config: KalmanConfig = KalmanConfig()) -> Estimator:
     return Estimator(_standing, step)
 
 
-ESTIMATORS = {"kinematic-kalman": kinematic_kalman, "integration": lambda config=KalmanConfig(), spec=HB40:
-              integration(config)}
+ESTIMATORS = {
+    "kinematic-kalman": lambda config, spec: kinematic_kalman(config, spec),
+    "kinematic-kalman-contact": lambda config, spec: kinematic_kalman(config, spec, contacts=True),
+    "integration": lambda config, spec: integration(config),
+}
+"""The estimators built from the robot's figures alone; a learned one also needs its file (`make(..., path=)`)."""
+
+LEARNED = "learned"
 
 
-def make(name: str, config: KalmanConfig = KalmanConfig(), spec: RobotSpec = HB40) -> Estimator:
-    """The estimator called `name`; ValueError naming the choices for any other."""
+def names() -> tuple:
+    """Every estimator name `make` takes."""
+    return (*ESTIMATORS, LEARNED)
+
+
+def make(name: str, config: KalmanConfig = KalmanConfig(), spec: RobotSpec = HB40, path=None) -> Estimator:
+    """The estimator called `name` (`learned` reads the fitted estimator at `path`); ValueError naming the choices
+    for any other name."""
+    if name == LEARNED:
+        from mjx_badger import learned_estimator  # it imports this module
+        if path is None:
+            raise ValueError("the learned estimator needs its file (written by `estimator fit`)")
+        return learned_estimator.load(path, spec).estimator()
     if name not in ESTIMATORS:
-        raise ValueError(f"unknown estimator {name!r}; choose from {', '.join(ESTIMATORS)}")
+        raise ValueError(f"unknown estimator {name!r}; choose from {', '.join(names())}")
     return ESTIMATORS[name](config, spec)

@@ -68,11 +68,13 @@ class _Track:
                 "gait_hz": analysis.gait_frequency(np.asarray(self.contacts), physics_dt)}
 
 
-def evaluation_env(config, seconds: float) -> HB40Env:
-    """The env of a run's TrainConfig with one episode as long as the evaluation (only a fall resets it)."""
+def evaluation_env(config, seconds: float, sensing=None) -> HB40Env:
+    """The env of a run's TrainConfig with one episode as long as the evaluation (only a fall resets it), sensing
+    with `sensing` (sensors.Sensing) if given."""
     env_config = config.env_config
     protocol = env_config.protocol.replace(episode_seconds=seconds + 1.0)
-    return HB40Env(config.approach, config.make_task(), dataclasses.replace(env_config, protocol=protocol),
+    sensing = env_config.sensing if sensing is None else sensing
+    return HB40Env(config.approach, config.make_task(), dataclasses.replace(env_config, protocol=protocol, sensing=sensing),
                    config.robot_spec, config.approach_params)
 
 
@@ -103,6 +105,7 @@ class NativeEnv:
         self.data = mujoco.MjData(self.model)
         self._reset, self._begin, self._end = jax.jit(env.reset), jax.jit(env.begin_step), jax.jit(env.end_step)
         self._feet = np.array([self.model.geom(name).id for name in env.spec.foot_geoms])
+        self._accelerometer = robot.sensor_slice(self.model, "accelerometer")
         self.state, self.reset_key, self.contacts = None, None, None
 
     def reset(self, key: jax.Array, command=None, task_state=None):
@@ -121,7 +124,7 @@ class NativeEnv:
         env, data = self.env, self.data
         (key, self.reset_key), action_state, target, delay = self._begin(self.state.info, jnp.asarray(action))
         previous, target, delay = jax.device_get((self.state.info["target"], target, delay))  # one transfer
-        clip, contacts = env.protocol.joint_velocity_clip, []
+        clip, contacts, imu = env.protocol.joint_velocity_clip, [], np.zeros(3)
         for i in range(env.substeps):
             ctrl = previous if i < delay else target
             torque = env.pd_torque(ctrl, data.qpos, data.qvel)
@@ -130,8 +133,10 @@ class NativeEnv:
             if clip is not None:
                 data.qvel[6:] = np.clip(data.qvel[6:], -clip, clip)
             contacts.append(data.geom_xpos[self._feet, 2] <= env.spec.foot_radius + CONTACT_TOLERANCE_M)
+            imu += data.sensordata[self._accelerometer]
         self.contacts = np.array(contacts)
-        self.state = self._end(self.state, _view(data), action_state, target, jnp.asarray(torque), key)
+        acceleration = jnp.asarray(imu / env.substeps, jnp.float32) if env.sensing is not None else None
+        self.state = self._end(self.state, _view(data), action_state, target, jnp.asarray(torque), key, acceleration)
         return self.state
 
 

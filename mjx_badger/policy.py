@@ -99,15 +99,19 @@ class Policy:
         x = np.asarray(observation, np.float32)
         if x.shape[-1] != self.observation_size:
             raise ValueError(f"observation of size {x.shape[-1]}, the policy takes {self.observation_size}")
+        return self.apply(x)
+
+    def apply(self, x, xp=np):
+        """The action of observation `x` with `xp` (numpy, or jax.numpy inside a traced program)."""
         for layer in self.layers:
             a = lambda name: self.arrays[f"{layer['name']}/{name}"]
             if layer["op"] == "dense":
                 x = x @ a("kernel") + a("bias")
             elif layer["op"] == "relu":
-                x = np.maximum(x, 0.0)
+                x = xp.maximum(x, 0.0)
             else:
-                x = (x - a("mean")) / np.sqrt(a("var") + layer["epsilon"]) * a("scale") + a("bias")
-        return np.tanh(x)
+                x = (x - a("mean")) / xp.sqrt(a("var") + layer["epsilon"]) * a("scale") + a("bias")
+        return xp.tanh(x)
 
 
 def load(path: Path, seed: int | None = None) -> Policy:

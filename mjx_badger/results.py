@@ -96,10 +96,16 @@ def hardware() -> dict:
     }
 
 
+# Env fields added after results were first committed: left out while off, so that a run without them
+# writes (and rebuilds from) the same document as before they existed.
+LATER_ENV_FIELDS = ("sensing",)
+
+
 def config_dict(config) -> dict:
     """A TrainConfig as plain JSON data, with its resolved env and agent settings."""
     data = dataclasses.asdict(config)
     data["env"] = dataclasses.asdict(config.env_config)
+    data["env"] = {k: v for k, v in data["env"].items() if k not in LATER_ENV_FIELDS or v is not None}
     data["agent"] = dataclasses.asdict(config.agent_config)
     return data
 

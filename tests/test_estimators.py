@@ -15,7 +15,7 @@ def _reading(acceleration=(0.0, 0.0, 9.81), joint_velocity=None, contacts=(1, 1,
     """A level trunk: encoders at the nominal pose, the given specific force, no rotation rate."""
     return estimators.Reading(jnp.asarray(POSE), jnp.zeros(12) if joint_velocity is None else jnp.asarray(joint_velocity),
                               jnp.asarray(acceleration, jnp.float32), jnp.zeros(3), jnp.eye(3),
-                              jnp.asarray(contacts, jnp.float32))
+                              jnp.asarray(contacts, jnp.float32), jnp.zeros(12))
 
 
 def _run(estimator, readings, dt=DT):
@@ -68,7 +68,11 @@ def test_averaging_all_four_legs_of_a_trot_underestimates_by_the_swing_legs_shar
     np.testing.assert_allclose(estimators.leg_odometry(jnp.asarray(POSE), jnp.asarray(joint_velocity, jnp.float32),
                                                        jnp.zeros(3), spec), odometry, atol=1e-4)
     all_feet = _run(estimators.make("kinematic-kalman"), [_reading(joint_velocity=joint_velocity)] * 80)
-    stance_only = _run(estimators.make("kinematic-kalman"), [_reading(joint_velocity=joint_velocity, contacts=stance)] * 80)
+    stance_only = _run(estimators.make("kinematic-kalman-contact"),
+                       [_reading(joint_velocity=joint_velocity, contacts=stance)] * 80)
+    # The thesis's filter ignores any contacts it is given: all four feet, always.
+    ignored = _run(estimators.make("kinematic-kalman"), [_reading(joint_velocity=joint_velocity, contacts=stance)] * 80)
+    np.testing.assert_allclose(ignored, all_feet, atol=1e-6)
     # No acceleration: the filter settles on its odometry, 0 for all four feet and v for the contact-aware variant.
     assert abs(all_feet[-1, 0]) < 1e-3
     assert stance_only[-1, 0] == pytest.approx(v, abs=1e-3)
@@ -85,5 +89,5 @@ def test_the_estimators_vmap_over_robots():
 
 
 def test_an_unknown_estimator_is_refused_naming_the_choices():
-    with pytest.raises(ValueError, match="unknown estimator 'ekf'; choose from kinematic-kalman, integration"):
+    with pytest.raises(ValueError, match="unknown estimator 'ekf'; choose from kinematic-kalman, kinematic-kalman-contact, integration, learned"):
         estimators.make("ekf")

@@ -84,7 +84,7 @@ def test_all_feet_contact_assumption_biases_low_and_planned_contacts_fix_it():
     # so the four-feet mean reads (3 x 0.2 - 0.1) / 4 = 0.125; told it swings, the estimator ignores it.
     velocity = lambda t: np.array([0.2, 0.0, 0.0])
     readings, truth = standing_trajectory(velocity, 0.025, 1.0, swinging_leg=0)
-    assumed, planned = VelocityEstimator(), VelocityEstimator()
+    assumed, planned = VelocityEstimator(), VelocityEstimator(name="kinematic-kalman-contact")
     stance = np.array([False, True, True, True])
     all_feet = np.array([assumed.update(s, 0.025) for s in readings])[20:, 0]
     known = np.array([planned.update(s, 0.025, stance) for s in readings])[20:, 0]

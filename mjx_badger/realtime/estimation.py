@@ -9,15 +9,21 @@ from mjx_badger.estimators import KalmanConfig
 from mjx_badger.realtime.interface import Sensors, rotation_matrix
 from mjx_badger.robot import HB40, RobotSpec
 
-__all__ = ["KalmanConfig", "VelocityEstimator", "leg_odometry", "reading"]
+__all__ = ["KalmanConfig", "VelocityEstimator", "estimator_name", "leg_odometry", "reading"]
+
+
+def estimator_name(config) -> str:
+    """The estimator a realtime run uses: the thesis's all-four-feet filter, or the plan's contacts (CPG)."""
+    return "kinematic-kalman-contact" if config.planned_contacts else "kinematic-kalman"
 
 
 def reading(sensors: Sensors, contacts=None, legs: int = 4) -> estimators.Reading:
     """The estimator's Reading of one Sensors; `contacts` (4,) bools or weights, all feet if None."""
     weights = np.ones(legs, np.float32) if contacts is None else np.asarray(contacts, np.float32)
-    return estimators.Reading(np.asarray(sensors.joint_angle, np.float32), np.asarray(sensors.joint_velocity, np.float32),
-                              np.asarray(sensors.acceleration, np.float32), np.asarray(sensors.angular_velocity, np.float32),
-                              rotation_matrix(sensors.orientation).astype(np.float32), weights)
+    f32 = lambda x: np.asarray(x, np.float32)
+    return estimators.Reading(f32(sensors.joint_angle), f32(sensors.joint_velocity), f32(sensors.acceleration),
+                              f32(sensors.angular_velocity), f32(rotation_matrix(sensors.orientation)), weights,
+                              f32(sensors.joint_torque))
 
 
 def leg_odometry(sensors: Sensors, spec: RobotSpec = HB40) -> np.ndarray:
@@ -38,7 +44,8 @@ class VelocityEstimator:
         # Compiled here, before the loop starts: a compile inside a control tick would miss its deadline.
         legs = len(spec.legs)
         like = estimators.Reading(np.zeros(12, np.float32), np.zeros(12, np.float32), np.zeros(3, np.float32),
-                                  np.zeros(3, np.float32), np.eye(3, dtype=np.float32), np.ones(legs, np.float32))
+                                  np.zeros(3, np.float32), np.eye(3, dtype=np.float32), np.ones(legs, np.float32),
+                                  np.zeros(12, np.float32))
         self._step = jax.jit(self.estimator.step).lower(self.state, like, np.float32(0.0)).compile()
 
     def reset(self):

@@ -13,7 +13,7 @@ from mjx_badger import results
 from mjx_badger.realtime import checkpoint, control, pretrained, report, scheduling
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.control import Progress, build
-from mjx_badger.realtime.estimation import KalmanConfig, VelocityEstimator
+from mjx_badger.realtime.estimation import KalmanConfig, VelocityEstimator, estimator_name
 from mjx_badger.realtime.interface import Robot
 from mjx_badger.realtime.learner import Learner, replay_ratio_cap
 from mjx_badger.realtime.replay import HostReplay
@@ -72,7 +72,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
         bot.start()
         learner.start()
         scheduling.nice_compute_threads()
-        session = control.Session(config, bot, env, tick, learner, buffer, progress, VelocityEstimator(kalman, env.spec),
+        session = control.Session(config, bot, env, tick, learner, buffer, progress, VelocityEstimator(kalman, env.spec, estimator_name(config)),
                                   timing, View(view, config, progress, learner, timing), stop)
         try:
             fresh = True

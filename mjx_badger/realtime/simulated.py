@@ -1,54 +1,37 @@
 """A simulated HB40 behind the `Robot` protocol: native MuJoCo at 200 Hz, paced to wall-clock.
 
 The physics runs in its own thread, like the robot's own controller, and exposes only what
-the real robot's sensors give (with their noise); `truth()` is for logging and figures and
-is not part of the protocol, so the loop cannot learn from it.
+the real robot's sensors give, with the noise of the suite's one sensor model (sensors.py,
+read every physics step); `truth()` is for logging and figures and is not part of the
+protocol, so the loop cannot learn from it.
 """
 
-import dataclasses
 import threading
 import time
 
 import mujoco
 import numpy as np
 
-from mjx_badger import robot
+from mjx_badger import robot, sensors
 from mjx_badger.realtime import scheduling
 from mjx_badger.realtime.interface import Sensors
-
-
-@dataclasses.dataclass(frozen=True)
-class SensorNoise:
-    """Standard deviations of the sensor noise (zero-mean Gaussian, new every physics step)."""
-
-    joint_angle: float = 0.001
-    """rad; 14-bit encoders resolve ~0.0004 rad, plus backlash."""
-    joint_velocity: float = 0.05
-    """rad/s; velocities come from differentiated encoder counts."""
-    joint_torque: float = 0.1
-    acceleration: float = 0.1
-    angular_velocity: float = 0.01
-    gyro_bias: float = 0.005
-    """rad/s; drawn once per robot start, constant afterwards."""
-    orientation: float = 0.002
-    """Per quaternion component, renormalised."""
 
 
 class SimulatedHB40:
     """The HB40 (or another robot spec) in native MuJoCo with its physics thread; implements `interface.Robot`."""
 
-    def __init__(self, noise: SensorNoise | None = SensorNoise(), reset_seconds: float = 2.0, seed: int = 0,
+    def __init__(self, noise: sensors.SensorModel | None = sensors.SensorModel(), reset_seconds: float = 2.0, seed: int = 0,
                  spec: robot.RobotSpec = robot.HB40):
         self.spec = spec
         self.model = robot.load_model(spec)
         self.data = mujoco.MjData(self.model)
-        self.noise = noise
+        self.noise = sensors.EXACT if noise is None else noise
         self.reset_seconds = reset_seconds
         self.physics_dt = float(self.model.opt.timestep)
         self.late_physics_steps = 0
         self.damp_calls = 0
         self._rng = np.random.default_rng(seed)
-        self._gyro_bias = np.zeros(3)
+        self._sensor_state = sensors.init(self.noise)
         self._lock = threading.Lock()
         self._running = threading.Event()
         self._thread: threading.Thread | None = None
@@ -58,7 +41,6 @@ class SimulatedHB40:
         self._trunk = self.model.body("trunk").id
         self._accel = robot.sensor_slice(self.model, "accelerometer")
         self._gyro = robot.sensor_slice(self.model, "gyro")
-        self._quat = robot.sensor_slice(self.model, "orientation")
         self._sensors: Sensors | None = None
         self._stand()
 
@@ -66,8 +48,7 @@ class SimulatedHB40:
     def start(self) -> None:
         if self._thread is not None:
             return
-        if self.noise is not None:
-            self._gyro_bias = self._rng.normal(0.0, self.noise.gyro_bias, 3)
+        self._sensor_state = sensors.init(self.noise, rng=self._rng)
         self._running.set()
         self._thread = threading.Thread(target=self._physics_loop, name="hb40-physics", daemon=True)
         self._thread.start()
@@ -150,13 +131,14 @@ class SimulatedHB40:
                 next_tick = time.perf_counter()
 
     def _measure(self) -> Sensors:
-        d, noise = self.data, self.noise
-        values = dict(
-            joint_angle=d.qpos[7:].copy(), joint_velocity=d.qvel[6:].copy(), joint_torque=d.actuator_force[:12].copy(),
-            acceleration=d.sensordata[self._accel].copy(), angular_velocity=d.sensordata[self._gyro] + self._gyro_bias,
-            orientation=d.sensordata[self._quat].copy())
-        if noise is not None:
-            for name, value in values.items():
-                values[name] = value + self._rng.normal(0.0, getattr(noise, name), value.shape)
-            values["orientation"] /= np.linalg.norm(values["orientation"])
-        return Sensors(time=float(d.time), **values)
+        d = self.data
+        truth = sensors.Truth(d.qpos[7:].copy(), d.qvel[6:].copy(), d.actuator_force[:12].copy(),
+                              d.sensordata[self._accel].copy(), d.sensordata[self._gyro].copy(),
+                              d.xmat[self._trunk].reshape(3, 3).copy(), np.ones(4))
+        self._sensor_state, reading = sensors.read(self.noise, self._sensor_state, truth,
+                                                   sensors.draw_numpy(self._rng), self.physics_dt, xp=np)
+        quaternion = np.zeros(4)
+        mujoco.mju_mat2Quat(quaternion, np.ascontiguousarray(reading.rotation).reshape(-1))
+        return Sensors(time=float(d.time), joint_angle=reading.joint_angle, joint_velocity=reading.joint_velocity,
+                       joint_torque=reading.joint_torque, acceleration=reading.acceleration,
+                       angular_velocity=reading.angular_velocity, orientation=quaternion)
