@@ -97,7 +97,7 @@ def _steal_ms(samples: np.ndarray, start: float, end: float) -> float:
 
 
 def run_name(seed: int, lock_memory: bool = True) -> str:
-    """The evidence run's key in the results (plain "run": seed 0 with memory locked, as in the README)."""
+    """The evidence run's key in the results (plain "run": seed 0 with memory locked, as in docs/realtime.md)."""
     return "run" + ("" if seed == 0 else f"_seed{seed}") + ("" if lock_memory else "_unlocked")
 
 

@@ -3,7 +3,7 @@
 A `Swap` sets one protocol field (or one departure made of two fields, such as the JT gains
 and rate) to the other protocol's value, and names the runs that show its effect and the
 claims it may move. Each swap is run beside its unswapped baseline at the attribution size
-(2 seeds x 10k steps, smaller than `quick`; the README says so), under
+(2 seeds x 10k steps, smaller than `quick`; docs/attribution.md says so), under
 `results/attribution/<base protocol>/<swap or baseline>/<experiment>/`.
 """
 
@@ -153,7 +153,7 @@ def _words(value, measure: str) -> str:
 
 
 def table(results_dir: Path) -> str:
-    """The README's 'departure -> claims it moves' table from the complete attribution results."""
+    """docs/attribution.md's 'departure -> claims it moves' table from the complete attribution results."""
     lines = ["| departure (fields set to the other protocol's value) | run | thesis-code baseline | swapped "
              "| claims it can move |", "|---|---|---|---|---|"]
     for swap in SWAPS:

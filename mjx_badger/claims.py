@@ -319,7 +319,7 @@ def budgets_text(boards: dict, protocol: str) -> str:
 
 
 def scoreboard_markdown(boards: dict, column: str = "{}: ours") -> str:
-    """The README's side-by-side scoreboard: one row per claim, one verdict column per board (protocol or profile)."""
+    """The side-by-side scoreboard of the README and docs/results.md: one row per claim, one verdict column per board (protocol or profile)."""
     names = list(boards)
     lines = ["| thesis finding | thesis | " + " | ".join(column.format(n) for n in names) + " |",
              "|---|---|" + "---|" * len(names)]

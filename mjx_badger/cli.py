@@ -673,7 +673,7 @@ def _same_run(folder: Path, config, seeds, pattern: str | None = None):
 
 
 def write_scoreboard_markdown(path: Path, boards: dict, profile_folder: Path) -> None:
-    """The side-by-side scoreboard the README quotes, with each protocol's wall time under it."""
+    """The side-by-side scoreboard docs/results.md quotes, with each protocol's wall time under it."""
     from mjx_badger import claims, results
 
     times = "; ".join(f"{name}: {results.wall_time_words(profile_folder / name)}" for name in boards)

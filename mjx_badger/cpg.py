@@ -3,7 +3,7 @@
 The phase p in [0, 1) advances by frequency x dt. Each leg runs the same cycle shifted by
 its offset: swing while its own phase is in [0, 0.5), stance after. The swing height is the
 thesis's spline, read as two cubic smoothsteps (lift, then lower) each in its own
-normalised half of the swing, apex 0.15 m at mid-swing; the stance height is 0, as the README's Readings and choices say.
+normalised half of the swing, apex 0.15 m at mid-swing; the stance height is 0, as docs/readings.md (CPG) says.
 """
 
 from typing import NamedTuple

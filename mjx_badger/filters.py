@@ -2,7 +2,7 @@
 
 Each filter is `init(x0) -> state` and `step(state, x) -> (state, y)` over arrays of any
 shape. The first-order smoothing factor is Casiez et al.'s alpha = 1 / (1 + tau / dt) with
-tau = 1 / (2 pi f_c); the thesis print of alpha is garbled, as the README's Readings and choices say.
+tau = 1 / (2 pi f_c); the thesis print of alpha is garbled, as docs/readings.md (Filters) says.
 """
 
 import math

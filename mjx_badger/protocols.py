@@ -59,7 +59,7 @@ class Protocol:
     gravity, CPG block = the two swing heights (§4). Text: 'thesis-text', Table 4.1 with our scales."""
     rewards: str
     """Code: 'thesis-code' forms: track_x with |yaw|, max_x unclipped, track_xy with 0.5 |yaw error|
-    and no energy term (§5). Text: 'thesis-text', Tables 4.5 and 4.6 as this suite reads them (README, Readings and choices)."""
+    and no energy term (§5). Text: 'thesis-text', Tables 4.5 and 4.6 as this suite reads them (docs/readings.md)."""
     curriculum: str
     """PDEC rules (`curriculum.RULES`). Code: 'thesis-code', the released curriculum.py: the halves grow
     until they meet, 50/50 halves until each has a bin, 0.25 m/s until complete, learned-region

@@ -214,7 +214,7 @@ def wall_time(folder: Path) -> dict:
 
 
 def wall_time_words(folder: Path) -> str:
-    """'N runs in H h (compile M min)', for scoreboards and the README."""
+    """'N runs in H h (compile M min)', for scoreboards, the README and docs/results.md."""
     time = wall_time(folder)
     hours = (time["compile_s"] + time["run_s"]) / 3600
     runs = f"{time['runs']} run" + ("" if time["runs"] == 1 else "s")

@@ -7,7 +7,7 @@ def velocity_tracking(vx, target):
     """Table 4.5 tracking term: plateau 1 on [v_t, 2 v_t], 0 at <= -v_t and >= 4 v_t.
 
     The printed formula jumps at 2 v_t; we read it as linear ramps -v_t -> v_t and
-    2 v_t -> 4 v_t, as the README's Readings and choices say.
+    2 v_t -> 4 v_t, as docs/readings.md (Velocity reward) says.
     """
     rise = (vx + target) / (2 * target)
     fall = (4 * target - vx) / (2 * target)
@@ -66,7 +66,7 @@ def along_and_lateral(velocity_xy, target_xy):
 
 
 def forward_minus_lateral(velocity_xy):
-    """Table 4.6 velocity term read as v_x - |v_y|, as the README's Readings and choices say."""
+    """Table 4.6 velocity term read as v_x - |v_y|, as docs/readings.md (Tasks) says."""
     return velocity_xy[..., 0] - jnp.abs(velocity_xy[..., 1])
 
 

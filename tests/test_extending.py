@@ -26,7 +26,7 @@ LONG_LEGS = dataclasses.replace(robot.HB40, name="hb40-long", calf_length=0.24, 
 
 @pytest.fixture
 def toys():
-    """Register the toys the way the README says, and take them out again afterwards."""
+    """Register the toys the way docs/extending.md says, and take them out again afterwards."""
     actions.register(actions.filter_approach("jt-toy", "JT-TOY", "tab:olive", moving_average))
     ALGORITHMS["toy-crossq"] = Algorithm(lambda: crossq().replace(name="toy-crossq", hidden=(16, 16)), "Toy", "k")
     tasks.TASKS["slow-walk"] = lambda form, rules: tasks.forward(0.2, form=form)
