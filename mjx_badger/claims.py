@@ -274,10 +274,10 @@ CLAIMS = (
 CLAIMS_BY_ID = {claim.id: claim for claim in CLAIMS}
 
 
-def score(profile_folder: Path, protocol: str) -> list[Verdict]:
-    """Every claim checked against `profile_folder/<protocol>/`."""
+def score(profile_folder: Path, protocol: str, claims: tuple = CLAIMS) -> list[Verdict]:
+    """Every claim (default: the simulation findings) checked against `profile_folder/<protocol>/`."""
     results = Results(Path(profile_folder) / protocol)
-    return [claim.check(results) for claim in CLAIMS]
+    return [claim.check(results) for claim in claims]
 
 
 def _mark(v: Verdict) -> str:

@@ -25,7 +25,7 @@ from mjx_badger import enable_compilation_cache
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.estimator_commands import Estimator
-from mjx_badger.experiments import EXPERIMENTS, PROFILES, result_name
+from mjx_badger.experiments import EXPERIMENTS, GROUPS, PROFILES, expand, result_name
 from mjx_badger.protocols import FIELDS, PROTOCOLS
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.robot import ROBOTS
@@ -40,7 +40,7 @@ CPU_SEED_STEPS_PER_S = 174.0
 DESCRIPTION = "mjx_badger: the thesis's simulation experiments on MJX, their claims scored, and the on-robot loop."
 Profile = Literal[tuple(PROFILES)]
 ProtocolName = Literal[tuple(PROTOCOLS)]
-ExperimentName = Literal[tuple(EXPERIMENTS)]
+ExperimentName = Literal[tuple(EXPERIMENTS) + tuple(GROUPS)]
 Flat = tyro.conf.arg(name="")
 """A nested run spec whose fields are the command's own options (--approach, not --run.approach)."""
 
@@ -196,7 +196,9 @@ class Reproduce:
     """quick: a CPU in hours; full: the thesis's budgets, a GPU."""
     protocol: ProtocolName = "thesis-code"
     """thesis-code: as the thesis's released code ran it; thesis-text: as the thesis reads."""
-    experiments: tuple[ExperimentName, ...] = tuple(EXPERIMENTS)
+    experiments: tuple[ExperimentName, ...] = ("simulation",)
+    """Experiments, or groups of them: 'simulation' (the five simulation experiments) or 'real' (the real-world
+    ones under on-robot conditions, §5.2)."""
     results_dir: Path = Path("results")
     figures_dir: Path = Path("figures")
     force: bool = False
@@ -261,7 +263,7 @@ class Claims:
             raise ValueError(f"--budgets names a profile twice: {' '.join(self.budgets)}")
 
     def __call__(self) -> int:
-        from mjx_badger import claims, results
+        from mjx_badger import claims, real_world, results
 
         if self.budgets:
             return self.by_budget()
@@ -270,6 +272,10 @@ class Claims:
         for name, board in boards.items():
             print(claims.scoreboard_text(board, self.profile, name))
             print(f"  wall time: {results.wall_time_words(self.results_dir / self.profile / name)}")
+            print()
+        for name in names:  # the real-world findings, in their own section
+            real = claims.score(self.results_dir / self.profile, name, real_world.real_claims())
+            print(claims.scoreboard_text(real, self.profile, name).replace("thesis claims", "real-world findings", 1))
             print()
         if self.markdown:
             write_scoreboard_markdown(self.markdown, boards, self.results_dir / self.profile)
@@ -579,7 +585,8 @@ def reproduce_command(args) -> int:
     profile = PROFILES[args.profile]
     folder = args.results_dir / args.profile / args.protocol
     todo = []
-    for name in args.experiments:
+    names = expand(args.experiments)
+    for name in names:
         experiment = EXPERIMENTS[name]
         for run in experiment.runs:
             path = folder / name / result_name(run)
@@ -623,11 +630,11 @@ def reproduce_command(args) -> int:
             done.append(eta.Done(plans[index], train_s, time.perf_counter() - run_started - train_s))
     if not cluster.writes():  # process 0 of a jax.distributed run draws and scores
         return 0
-    for path in plots.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
+    for path in plots.draw(folder, args.figures_dir, args.profile, names, args.protocol):
         print(f"wrote {path}")
     from mjx_badger import render
 
-    for path in render.draw(folder, args.figures_dir, args.profile, args.experiments, args.protocol):
+    for path in render.draw(folder, args.figures_dir, args.profile, names, args.protocol):
         print(f"wrote {path} (the best seed's gait, native MuJoCo)")
     print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
     print()

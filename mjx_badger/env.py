@@ -39,8 +39,10 @@ with contextlib.redirect_stdout(io.StringIO()):
     from brax.envs.base import Env, State
     from mujoco import mjx
 
-from mjx_badger import actions, estimators, protocols, rewards, robot, sensors, tasks
+from mjx_badger import actions, estimators, protocols, rewards, robot, sensors, tasks, terrain
+from mjx_badger.conditions import SIM, Conditions
 from mjx_badger.protocols import Protocol
+from mjx_badger.realtime import safety
 
 # Fixed scale factors that bring each block to order one (thesis-text), and the released
 # code's divisors (thesis-code, docs/thesis-code.md §4: q / 3.14, qdot / 25, action / 3.14, omega / 10).
@@ -71,6 +73,8 @@ CODE_FALL_TILT_RAD = np.deg2rad(30.0)
 CODE_FALL_ANGULAR_SPEED = 4.0
 CODE_POWER_LIMIT_W = 1500.0
 CODE_POWER_STEPS = 3
+# The released robot env's monitor damps the motors at this roll or pitch (docs/thesis-code.md §12).
+ROBOT_COLLAPSE_RAD = 1.5
 
 
 def roll_pitch(rot):
@@ -87,7 +91,10 @@ class EnvConfig:
     protocol: Protocol = protocols.THESIS_CODE
     """Every choice on which the thesis's code and text differ (protocols.py)."""
     sensing: sensors.Sensing | None = None
-    """The robot's own senses: noisy sensors and its velocity estimate, reported beside the truth (None: off)."""
+    """The robot's own senses: noisy sensors and its velocity estimate, reported beside the truth (None: the
+    conditions' own)."""
+    conditions: Conditions | None = None
+    """On-robot conditions (conditions.py: office, outdoor); None is `sim`, the simulation chapter's."""
 
     def rate(self, approach: str) -> float:
         """The control rate of `approach` under this configuration."""
@@ -116,7 +123,10 @@ class HB40Env(Env):
             task = tasks.make_task(task, self.protocol.rewards, self.protocol.curriculum)
         self.task = task
         self.observation_layout = observation_layout(self.action_space, self.protocol)
-        self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd)
+        self.conditions = self.config.conditions or SIM
+        self.conditions.validate()
+        self.ground = self.conditions.ground
+        self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd, ground=self.ground)
         robot.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg))
         # Under jax.distributed, on this process's own device: mjx's default, jax.devices()[0], is process 0's.
         local = jax.local_devices()[0] if jax.process_count() > 1 else None
@@ -126,7 +136,10 @@ class HB40Env(Env):
         self._feet = np.array([self.mj_model.geom(name).id for name in spec.foot_geoms])
         self._accel = robot.sensor_slice(self.mj_model, "accelerometer")
         self._gyro = robot.sensor_slice(self.mj_model, "gyro")
-        self.sensing = self.config.sensing
+        self.sensing = self.config.sensing or self.conditions.sensing
+        # Only what the conditions change enters the program: under `sim` it is the one it always was.
+        self._varies_friction = self.ground.friction != (spec.friction, spec.friction)
+        self._pushes = self.conditions.push_newtons > 0
         if self.sensing is not None:
             self._estimator = estimators.make(self.sensing.estimator, self.sensing.kalman, spec,
                                               self.sensing.estimator_file)
@@ -159,7 +172,11 @@ class HB40Env(Env):
         key, command_key = jax.random.split(rng)
         task_state, drawn = self.task.command(self.task.init() if task_state is None else task_state, command_key)
         command = drawn if command is None else jnp.asarray(command, dtype=jnp.float32)
-        data, obs, episode = self._fresh_episode(command)
+        if self._varies_friction or self._pushes:
+            key, ground_key = jax.random.split(key)
+            data, obs, episode = self._fresh_episode(command, ground_key)
+        else:
+            data, obs, episode = self._fresh_episode(command)
         if self.sensing is not None:
             # The IMU's biases are the robot's: drawn once, carried across its episodes.
             key, bias_key = jax.random.split(key)
@@ -190,13 +207,16 @@ class HB40Env(Env):
         previous_target = state.info["target"]
         clip = self.protocol.joint_velocity_clip
 
+        model, push = self._ground_model(state.info), self._push(state.info)
+
         def physics_step(carry, i):
             data, _ = carry
             # The new target reaches the motors only after the sampled delay (Table 5.1).
             ctrl = jnp.where(i < delay_steps, previous_target, target)
             torque = self.pd_torque(ctrl, data.qpos, data.qvel)
+            data = data.replace(ctrl=ctrl) if push is None else data.replace(ctrl=ctrl, xfrc_applied=push)
             with jax.named_scope("mjx_step"):  # op names only: benchmarks/bench_compile.py counts the copies
-                data = mjx.step(self.mjx_model, data.replace(ctrl=ctrl))
+                data = mjx.step(model, data)
             if clip is not None:
                 data = data.replace(qvel=data.qvel.at[6:].set(jnp.clip(data.qvel[6:], -clip, clip)))
             imu = data.sensordata[self._accel] if self.sensing is not None else None
@@ -209,6 +229,19 @@ class HB40Env(Env):
         acceleration = None if imu is None else jnp.mean(imu, axis=0)
         state = self.end_step(state, data, action_state, target, torque, keys[0], acceleration)
         return self._auto_reset(state, keys[1]), trace
+
+    def _ground_model(self, info: dict):
+        """The MJX model with this episode's ground friction on every floor pair (the model itself if it never varies)."""
+        if not self._varies_friction:
+            return self.mjx_model
+        friction = self.mjx_model.pair_friction.at[:, :2].set(info["friction"])
+        return self.mjx_model.replace(pair_friction=friction)
+
+    def _push(self, info: dict):
+        """(bodies, 6) external wrench: the episode's wind on the trunk (None without wind)."""
+        if not self._pushes:
+            return None
+        return jnp.zeros((self.mj_model.nbody, 6)).at[self._trunk, :3].set(info["push"])
 
     def begin_step(self, info: dict, action: jax.Array):
         """A control step before its physics: (next key, reset key), the action pipeline's state and new
@@ -229,20 +262,26 @@ class HB40Env(Env):
         info = state.info
         senses = self._sense(info, data, acceleration, key) if self.sensing is not None else {}
         command = info["command"]
-        obs, motion = self._observe(data, action_state, command, info["prev_gyro"], torque)
-        reward, contributions = self.task.reward(motion, command)
+        obs, motion = self._observe(data, action_state, command, info["prev_gyro"], torque, senses)
+        # On the robot the reward and the curriculum see only the estimate (§5.2); the metrics keep the truth.
+        sensed = motion._replace(linear_velocity=senses["estimate"]) if self.conditions.estimate_in_loop else motion
+        reward, contributions = self.task.reward(sensed, command)
         # A physics blow-up (non-finite state) ends the episode under any protocol, and its NaNs must
         # not reach the replay buffer: a NaN next observation poisons the critic's target even at
         # discount 0. It is stored as zeros and counted in `blowups`.
         finite = jnp.all(jnp.isfinite(obs)) & jnp.isfinite(reward)
         obs, reward = jnp.where(finite, obs, 0.0), jnp.where(finite, reward, 0.0)
-        task_state = self.task.update(info["task_state"], command, motion)
+        task_state = self.task.update(info["task_state"], command, sensed)
 
         power_steps = jnp.where(jnp.sum(jnp.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W,
                                 info["power_steps"] + 1, 0)
         # The rule on a finite state only: a blow-up is counted in `blowups`, not as a (would-be) fall.
-        fallen = self._fall_rule(data, motion, power_steps) & finite
-        terminated = (fallen if self.terminates else jnp.bool_(False)) | ~finite
+        if self.conditions.safety_stop:  # the robot's own stop on its own readings, in place of the protocol's rule
+            fallen = self._safety_stop(senses["reading"] if senses else None, data) & finite
+            terminated = fallen | ~finite
+        else:
+            fallen = self._fall_rule(data, motion, power_steps) & finite
+            terminated = (fallen if self.terminates else jnp.bool_(False)) | ~finite
         step = info["step"] + 1
         truncated = (step >= self.episode_steps) & ~terminated
         done = terminated | truncated
@@ -262,13 +301,14 @@ class HB40Env(Env):
         )
         if senses:
             metrics.update(estimated_forward_velocity=senses["estimate"][0],
-                           estimated_lateral_velocity=senses["estimate"][1])
+                           estimated_lateral_velocity=senses["estimate"][1],
+                           estimated_desired_velocity=rewards.along_and_lateral(senses["estimate"][:2], command[:2])[0])
         info = dict(
             info,
             rng=key,
             action_state=action_state,
             target=target,
-            prev_gyro=data.sensordata[self._gyro],
+            prev_gyro=senses["reading"].angular_velocity if senses else data.sensordata[self._gyro],
             power_steps=power_steps,
             step=step,
             task_state=task_state,
@@ -301,27 +341,49 @@ class HB40Env(Env):
         return {"sensor_state": sensor_state, "estimator_state": estimator_state, "estimate": estimate,
                 "reading": reading}
 
+    def _safety_stop(self, reading, data):
+        """Whether the robot stops itself: under thesis-code the released robot env's rule (its heading pitched 30 deg
+        or more, or turning faster than 4 rad/s, or the monitor's collapse at 1.5 rad of roll or pitch), under
+        thesis-text the on-robot loop's monitor (a tilt past the fall tilt or a joint out of range, §5.2)."""
+        rotation = reading.rotation if reading is not None else data.xmat[self._trunk]
+        angle = reading.joint_angle if reading is not None else data.qpos[7:]
+        if self.protocol.termination != "thesis-code":
+            return safety.trips(rotation, angle, self.spec, jnp)
+        gyro = reading.angular_velocity if reading is not None else data.sensordata[self._gyro]
+        roll, pitch = roll_pitch(rotation)
+        heading_pitch = jnp.arcsin(jnp.clip(rotation[2, 0], -1.0, 1.0))
+        return ((jnp.abs(heading_pitch) >= CODE_FALL_TILT_RAD) | (jnp.linalg.norm(gyro) > CODE_FALL_ANGULAR_SPEED)
+                | (jnp.abs(roll) >= ROBOT_COLLAPSE_RAD) | (jnp.abs(pitch) >= ROBOT_COLLAPSE_RAD))
+
     def _fall_rule(self, data, motion, power_steps):
         """Whether the protocol's termination rule fires on this step."""
         rot = data.xmat[self._trunk]
+        floor = terrain.height_at(self.ground, data.qpos[0]) if self.ground.incline_deg else 0.0
         if self.protocol.termination == "tilt-height":
             tilt = self.spec.fall_tilt_rad
             return ((jnp.abs(motion.roll) > tilt) | (jnp.abs(motion.pitch) > tilt)
-                    | (data.qpos[2] < self.spec.fall_height))
+                    | (data.qpos[2] - floor < self.spec.fall_height))
         # The trunk box's lowest corner at the floor: the trunk-floor contact (a box on a plane).
-        trunk_bottom = data.xpos[self._trunk, 2] - jnp.sum(jnp.abs(rot[2]) * self._trunk_half)
+        trunk_bottom = data.xpos[self._trunk, 2] - floor - jnp.sum(jnp.abs(rot[2]) * self._trunk_half)
         return ((jnp.abs(motion.roll) >= CODE_FALL_TILT_RAD) | (jnp.abs(motion.pitch) >= CODE_FALL_TILT_RAD)
                 | (jnp.linalg.norm(data.qvel[3:6]) > CODE_FALL_ANGULAR_SPEED) | (trunk_bottom <= 0.0)
                 | (power_steps >= CODE_POWER_STEPS))
 
-    def _fresh_episode(self, command):
-        """Initial physics data, observation and per-episode info of an episode under `command`."""
+    def _fresh_episode(self, command, key=None):
+        """Initial physics data, observation and per-episode info of an episode under `command`; `key` draws
+        the episode's ground friction and wind where the conditions vary them."""
         data = self._init_data
         action_state = self.action_space.init()
         gyro = data.sensordata[self._gyro]
         obs, _ = self._observe(data, action_state, command, gyro, jnp.zeros(12))
         episode = {"action_state": action_state, "target": self.action_space.rest_ctrl(), "command": command,
                    "prev_gyro": gyro, "step": jnp.int32(0), "power_steps": jnp.int32(0)}
+        if self._varies_friction:
+            low, high = self.ground.friction
+            episode["friction"] = jax.random.uniform(jax.random.fold_in(key, 0), minval=low, maxval=high)
+        if self._pushes:
+            heading = jax.random.uniform(jax.random.fold_in(key, 1), maxval=2 * jnp.pi)
+            episode["push"] = self.conditions.push_newtons * jnp.array([jnp.cos(heading), jnp.sin(heading), 0.0])
         if self.sensing is not None:  # a reset recalibrates the estimator: standing still, and sure of it
             truth = sensors.truth(data, self._trunk, data.sensordata[self._accel], gyro, jnp.zeros(12))
             _, reading = sensors.read(sensors.EXACT, sensors.init(sensors.EXACT), truth, sensors.no_draws(),
@@ -333,8 +395,13 @@ class HB40Env(Env):
         """Replace a finished episode by a fresh one; the task state (curriculum), fall counts and
         `info['next_obs']` (the finished episode's last observation) carry over."""
         done = state.done > 0
-        task_state, command = self.task.command(state.info["task_state"], key)
-        data, obs, episode = self._fresh_episode(command)
+        if self._varies_friction or self._pushes:
+            key, ground_key = jax.random.split(key)
+            task_state, command = self.task.command(state.info["task_state"], key)
+            data, obs, episode = self._fresh_episode(command, ground_key)
+        else:
+            task_state, command = self.task.command(state.info["task_state"], key)
+            data, obs, episode = self._fresh_episode(command)
         pick = lambda new, old: jax.tree.map(lambda a, b: jnp.where(done, a, b), new, old)
         info = dict(state.info, **pick(episode, {k: state.info[k] for k in episode}),
                     task_state=pick(task_state, state.info["task_state"]))
@@ -349,12 +416,16 @@ class HB40Env(Env):
 
     def _trace(self, data):
         """Foot contact flags (4,) and trunk-frame forward velocity at one physics step."""
-        contact = data.geom_xpos[self._feet, 2] <= self.spec.foot_radius + CONTACT_TOLERANCE_M
+        feet = data.geom_xpos[self._feet]
+        floor = terrain.height_at(self.ground, feet[:, 0]) if self.ground.incline_deg else 0.0
+        relief = self.ground.relief_m if self.ground.terrain != "flat" else 0.0
+        contact = feet[:, 2] - floor <= self.spec.foot_radius + CONTACT_TOLERANCE_M + relief
         forward = data.xmat[self._trunk][:, 0] @ data.qvel[:3]
         return contact, forward
 
-    def _observe(self, data, action_state, command, prev_gyro, torque):
-        """Observation vector and the raw trunk motion the reward needs."""
+    def _observe(self, data, action_state, command, prev_gyro, torque, senses=None):
+        """Observation vector and the raw trunk motion the reward needs (the truth; with the estimate in the loop
+        the observation is what the robot measures: `_observe_measured`)."""
         rot = data.xmat[self._trunk]  # body-to-world
         linear_velocity = rot.T @ data.qvel[:3]
         gyro = data.sensordata[self._gyro]
@@ -370,7 +441,22 @@ class HB40Env(Env):
                              linear_velocity, angular_velocity, command, gravity)
         applied = torque if self.protocol.rewards == "thesis-code" else data.qfrc_actuator[6:]
         motion = tasks.Motion(linear_velocity, angular_velocity, roll, pitch, applied)
+        if senses and self.conditions.estimate_in_loop:
+            obs = self._observe_measured(senses, action_state, command, prev_gyro)
         return obs, motion
+
+    def _observe_measured(self, senses, action_state, command, prev_gyro):
+        """The observation from the robot's own readings and velocity estimate: encoders, the IMU's specific force
+        (gravity included, as the robot's IMU gives it), gyro and attitude; the angular acceleration is the gyro's
+        change (thesis-text) or zero (thesis-code: the released robot env leaves it unset)."""
+        reading = senses["reading"]
+        gravity = reading.rotation.T @ jnp.array([0.0, 0.0, -1.0])
+        if self.protocol.observation == "thesis-code":  # the released robot env never fills angular acceleration
+            angular_acceleration = jnp.zeros(3)
+        else:
+            angular_acceleration = (reading.angular_velocity - prev_gyro) / self.control_dt
+        return self._assemble(reading.joint_angle, reading.joint_velocity, action_state, reading.acceleration,
+                              angular_acceleration, senses["estimate"], reading.angular_velocity, command, gravity)
 
     def observation(self, joint_angle, joint_velocity, action_state, acceleration, angular_velocity,
                     prev_angular_velocity, linear_velocity, command, gravity):
@@ -392,5 +478,5 @@ class HB40Env(Env):
         names += ["forward_velocity", "lateral_velocity", "yaw_rate", "height", "desired_velocity",
                   "command_lateral_velocity", "desired_error"]
         if self.sensing is not None:
-            names += ["estimated_forward_velocity", "estimated_lateral_velocity"]
+            names += ["estimated_forward_velocity", "estimated_lateral_velocity", "estimated_desired_velocity"]
         return names + list(self.task.progress(self.task.init()))

@@ -10,8 +10,8 @@ import tyro
 
 from mjx_badger import learned_estimator
 
-QUICK_OMNI = Path("figures/data/quick/thesis-code/omni-pdec/cpg-vf_crossq_omni-pdec.json")
-"""The committed omnidirectional policy (CPG-VF, CrossQ, curriculum, quick profile, best seed)."""
+OMNI_POLICY = Path("figures/data/estimators/policy/cpg-vf_crossq_omni-pdec.json")
+"""The committed omnidirectional policy (CPG-VF, CrossQ, curriculum, thesis-code, 3 seeds x 20k steps; its best seed)."""
 
 
 def _positive(name: str, value) -> None:
@@ -41,7 +41,7 @@ def _writable(path: Path, suffix: str) -> None:
 class Collect:
     """Write a dataset: a trained policy's sensor readings (exact, as the thesis's) beside the true velocity."""
 
-    results: Path = QUICK_OMNI
+    results: Path = OMNI_POLICY
     """A run's results file with its saved policy (default: the committed omnidirectional CPG-VF policy)."""
     steps: int = 1_000_000
     """Control steps in all, over every env (the thesis: 2M; see docs/estimators.md for ours)."""

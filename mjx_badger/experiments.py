@@ -26,9 +26,13 @@ PROFILES = {
 
 @dataclasses.dataclass(frozen=True)
 class Run:
+    """One configuration of an experiment."""
+
     approach: str
     algo: str
     task: str
+    task_params: tuple = ()
+    """The task's keyword parameters, ((name, value), ...), e.g. the target velocity."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -41,7 +45,8 @@ class Experiment:
     thesis_numbers: dict
     """Per compared name (approach or algorithm): the thesis's reported values, for side-by-side tables."""
     compares: str = "approach"
-    """Which field of a run the experiment compares: 'approach' or 'algo'."""
+    """Which field of a run the experiment compares: 'approach', 'algo', or 'label' (approach, and algorithm
+    where it is not CrossQ)."""
     target_velocity: float | None = 0.5
     """The velocity a run should reach (None: as fast as possible)."""
     step_caps: dict = dataclasses.field(default_factory=dict)
@@ -55,20 +60,33 @@ class Experiment:
     """Learning curves and time to target in 'steps' or simulated 'minutes'."""
     baseline: str | None = None
     """An experiment drawn against this one in the 'versus' figure."""
+    conditions: str = "sim"
+    """The conditions its runs learn under (conditions.py): 'sim', or on-robot 'office' or 'outdoor'."""
+    fixed_steps: int | None = None
+    """Steps per run whatever the profile (the real-world experiments' 20k; smoke still shortens them)."""
+    group: str = "simulation"
+    """'simulation' (the default set `reproduce` runs) or 'real' (the real-world experiments, §5.2)."""
 
     def label(self, run: Run) -> str:
+        """The name a run goes by in figures and tables: its approach or algorithm, or (compares 'label') the
+        approach with the algorithm named where it is not CrossQ."""
+        if self.compares == "label":
+            return run.approach if run.algo == "crossq" else f"{run.approach} {run.algo}"
         return getattr(run, self.compares)
 
     def steps(self, run: Run, profile_name: str) -> int:
-        return min(PROFILES[profile_name].steps, self.step_caps.get(profile_name, {}).get(run.algo, 10**12))
+        steps = PROFILES[profile_name].steps
+        if self.fixed_steps is not None and profile_name != "smoke":
+            steps = self.fixed_steps
+        return min(steps, self.step_caps.get(profile_name, {}).get(run.algo, 10**12))
 
     def train_config(self, run: Run, profile_name: str, protocol: str = "thesis-code",
                      protocol_changes: tuple = ()) -> TrainConfig:
         profile = PROFILES[profile_name]
-        return TrainConfig(approach=run.approach, algo=run.algo, task=run.task,
+        return TrainConfig(approach=run.approach, algo=run.algo, task=run.task, task_params=run.task_params,
                            total_steps=self.steps(run, profile_name), chunk_steps=profile.chunk_steps,
                            warmup_steps=profile.warmup_steps, eval_steps=profile.eval_steps, protocol=protocol,
-                           protocol_changes=protocol_changes)
+                           protocol_changes=protocol_changes, conditions=self.conditions)
 
 
 APPROACHES = ("jt-nf", "jt-lpf", "jt-oef", "cpg-d", "cpg-vf", "cpg-rt")
@@ -162,6 +180,91 @@ EXPERIMENTS = {
         baseline="omni-random",
     ),
 }
+
+
+REAL_TARGET = (("target_velocity", 0.25),)
+"""§5.2: every real-world experiment commands 0.25 m/s."""
+REAL_OMNI = (("speed", 0.25),)
+
+
+def _real(approach: str, algo: str = "crossq", task: str = "forward") -> Run:
+    return Run(approach, algo, task, REAL_OMNI if task.startswith("omni") else REAL_TARGET)
+
+
+# Tables 5.3-5.5: evaluation speed (m/s; N/A where the robot made no headway), yaw control in the thesis's
+# categories, falls, and minutes on the robot (resets included). JT-NF and CPG-RT were left out on the robot after
+# "over 100 falls within the first 20k steps" (§5.2): run here to test that reason.
+EXCLUDED = {"falls": ">100", "finding": "left out on the robot: over 100 falls in the first 20k steps"}
+EXPERIMENTS.update({
+    "real-office": Experiment(
+        name="real-office",
+        thesis_figure="Table 5.3",
+        runs=(_real("jt-lpf", "sac-utd20"),) + tuple(_real(a) for a in ("jt-oef", "jt-lpf", "cpg-d", "cpg-vf",
+                                                                       "jt-nf", "cpg-rt")),
+        compares="label",
+        thesis_numbers={
+            "jt-lpf sac-utd20": {"velocity": 0.0125, "yaw": "poor", "falls": 43, "minutes": 40},
+            "jt-oef": {"velocity": 0.85, "yaw": "medium", "falls": 15, "minutes": 25},
+            "jt-lpf": {"velocity": 0.4, "yaw": "medium", "falls": 16, "minutes": 20},
+            "cpg-d": {"velocity": 0.3, "yaw": "good", "falls": 38, "minutes": 30},
+            "cpg-vf": {"velocity": 0.3, "yaw": "very good", "falls": 52, "minutes": 45},
+            "jt-nf": EXCLUDED,
+            "cpg-rt": EXCLUDED,
+        },
+        target_velocity=0.25,
+        figures=("real",),
+        table="real",
+        conditions="office",
+        fixed_steps=20_000,
+        group="real",
+    ),
+    "real-outdoor": Experiment(
+        name="real-outdoor",
+        thesis_figure="Table 5.4",
+        runs=tuple(_real(a) for a in ("jt-oef", "jt-lpf", "cpg-d", "cpg-vf", "jt-nf", "cpg-rt")),
+        compares="label",
+        thesis_numbers={
+            "jt-oef": {"velocity": 0.25, "yaw": "good", "falls": 19, "minutes": 19},
+            "jt-lpf": {"velocity": 0.23, "yaw": "medium", "falls": 13, "minutes": 14},
+            "cpg-d": {"velocity": 0.33, "yaw": "very good", "falls": 39, "minutes": 17},
+            "cpg-vf": {"velocity": None, "yaw": "poor", "falls": 81, "minutes": 19},
+            "jt-nf": EXCLUDED,
+            "cpg-rt": EXCLUDED,
+        },
+        target_velocity=0.25,
+        figures=("real",),
+        table="real",
+        conditions="outdoor",
+        fixed_steps=20_000,
+        group="real",
+    ),
+    "real-outdoor-omni": Experiment(
+        name="real-outdoor-omni",
+        thesis_figure="Table 5.5",
+        runs=tuple(_real(a, task="omni-random") for a in ("jt-oef", "cpg-d")),
+        compares="label",
+        thesis_numbers={
+            "jt-oef": {"velocity": None, "lateral": None, "yaw": None, "falls": 6, "minutes": 25},
+            "cpg-d": {"velocity": 0.2, "lateral": 0.15, "yaw": "poor", "falls": 43, "minutes": 33},
+        },
+        target_velocity=0.25,
+        figures=("real",),
+        table="real",
+        conditions="outdoor",
+        fixed_steps=20_000,
+        group="real",
+    ),
+})
+GROUPS = {group: tuple(name for name, e in EXPERIMENTS.items() if e.group == group) for group in ("simulation", "real")}
+"""`reproduce --experiments simulation` (the default) or `real`."""
+
+
+def expand(names) -> tuple:
+    """Experiment names with the groups among them ('simulation', 'real') replaced by their experiments, once each."""
+    out = []
+    for name in names:
+        out += [e for e in GROUPS.get(name, (name,)) if e not in out]
+    return tuple(out)
 
 
 def result_name(run: Run) -> str:

@@ -9,11 +9,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mjx_badger import results  # noqa: E402
+from mjx_badger import real_world, results  # noqa: E402
 from mjx_badger.actions import APPROACHES  # noqa: E402
 from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_frequency, released_code,  # noqa: E402
                                  load_experiment, series, summarize)
-from mjx_badger.experiments import EXPERIMENTS, Experiment  # noqa: E402
+from mjx_badger.experiments import EXPERIMENTS, GROUPS, Experiment  # noqa: E402
 from mjx_badger.robot import ROBOTS  # noqa: E402
 from mjx_badger.tables import TABLES, released_code_table  # noqa: E402
 
@@ -209,6 +209,7 @@ def algorithms_figure(experiment: Experiment, documents: dict, out: Path, profil
 
 
 FIGURES = {
+    "real": lambda e, docs, out, label, loaded: real_world.figure(e, docs, out, label),
     "algorithms": lambda e, docs, out, label, loaded: algorithms_figure(e, docs, out, label),
     "forward": lambda e, docs, out, label, loaded: forward_figure(e, docs, out, label),
     "forward-max": lambda e, docs, out, label, loaded: forward_max_figure(e, docs, out, label),
@@ -362,6 +363,12 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protoco
             beside.write_text(f"Protocol: {protocol}, profile: {profile}. {released['what']}\n\n"
                               + released_code_table(documents, released, profile))
             written.append(beside)
-    if any(loaded.values()):
+    if any(loaded[name] for name in GROUPS["simulation"]):
         written.append(overview_figure(loaded, figures_dir / f"overview_{profile}.png", label))
+    if loaded["forward-max"] and (loaded["real-office"] or loaded["real-outdoor"]):
+        path = figures_dir / f"table_6_{profile}.md"
+        path.write_text(f"Protocol: {protocol}, profile: {profile}. Tables 6.1/6.2: forward velocity (m/s), simulation "
+                        "at maximal velocity, office and outdoor at the 0.25 m/s target.\n\n"
+                        + real_world.table_6(loaded["forward-max"], loaded["real-office"], loaded["real-outdoor"]))
+        written.append(path)
     return written

@@ -13,7 +13,7 @@ from typing import Callable
 import mujoco
 import numpy as np
 
-from mjx_badger import native, robot
+from mjx_badger import native, robot, terrain
 
 SCENERY = """<asset>
     <texture name="grid" type="2d" builtin="checker" rgb1="0.78 0.8 0.82" rgb2="0.62 0.65 0.68" width="256" height="256"/>
@@ -37,11 +37,12 @@ def check_gl(model: mujoco.MjModel) -> None:
 
 def scenery_model(env) -> mujoco.MjModel:
     """The env's model with SCENERY: the same bodies and joints, so the env's MjData renders in it."""
-    xml = robot.mjcf(env.spec, env.action_space.split_pd).replace("<worldbody>", SCENERY, 1)
+    xml = robot.mjcf(env.spec, env.action_space.split_pd, env.ground).replace("<worldbody>", SCENERY, 1)
     line = next((l for l in xml.splitlines() if '<geom name="floor"' in l), None)
     assert line is not None, "the floor geom's declaration changed; update render.scenery_model"
-    textured = re.sub(r'\s*rgba="[^"]*"', "", line).replace("/>", ' material="grid"/>')
-    return mujoco.MjModel.from_xml_string(xml.replace(line, textured, 1))
+    if env.ground.terrain == "flat":  # the stones keep their own colour
+        xml = xml.replace(line, re.sub(r'\s*rgba="[^"]*"', "", line).replace("/>", ' material="grid"/>'), 1)
+    return terrain.set_heights(mujoco.MjModel.from_xml_string(xml), env.ground)
 
 
 def follower(env, size: tuple = (480, 360)) -> Callable:

@@ -96,16 +96,18 @@ def hardware() -> dict:
     }
 
 
-# Env fields added after results were first committed: left out while off, so that a run without them
-# writes (and rebuilds from) the same document as before they existed.
-LATER_ENV_FIELDS = ("sensing",)
+# Fields added after results were first committed, with the value that means "as before": left out at that
+# value, so that a run without them writes (and rebuilds from) the same document as before they existed.
+LATER_ENV_FIELDS = {"sensing": None, "conditions": None}
+LATER_RUN_FIELDS = {"conditions": "sim", "condition_changes": ()}
 
 
 def config_dict(config) -> dict:
     """A TrainConfig as plain JSON data, with its resolved env and agent settings."""
     data = dataclasses.asdict(config)
+    data = {k: v for k, v in data.items() if k not in LATER_RUN_FIELDS or v != LATER_RUN_FIELDS[k]}
     data["env"] = dataclasses.asdict(config.env_config)
-    data["env"] = {k: v for k, v in data["env"].items() if k not in LATER_ENV_FIELDS or v is not None}
+    data["env"] = {k: v for k, v in data["env"].items() if k not in LATER_ENV_FIELDS or v != LATER_ENV_FIELDS[k]}
     data["agent"] = dataclasses.asdict(config.agent_config)
     return data
 

@@ -259,19 +259,27 @@ def collision_geoms(spec: RobotSpec = HB40) -> tuple:
                          if part in spec.floor_contacts)
 
 
-def mjcf(spec: RobotSpec = HB40, split_pd: bool = False) -> str:
-    """The MJCF document of the robot on a flat floor.
+def mjcf(spec: RobotSpec = HB40, split_pd: bool = False, ground=None) -> str:
+    """The MJCF document of the robot on its ground (conditions.Ground; None: a flat, level floor).
 
     With `split_pd` every joint gets a second position actuator (ctrl 12-23); both then run at
     half the gains and half the torque limit, so their summed torque is the average of two full
     PD controllers, each clipped: the torque-averaging residual CPG of thesis §4.3.
     """
+    from mjx_badger import terrain
+    from mjx_badger.conditions import Ground
+
+    ground = Ground() if ground is None else ground
     pd_share = 0.5 if split_pd else 1.0
     limit = spec.torque_limit * pd_share
     actuators = [f'<position name="{name}" joint="{name}"/>' for name in spec.joint_names]
     if split_pd:
         actuators += [f'<position name="{name}_residual" joint="{name}"/>' for name in spec.joint_names]
-    pairs = [f'<pair geom1="floor" geom2="{geom}"/>' for geom in collision_geoms(spec)]
+    touching = collision_geoms(spec)
+    if ground.terrain != "flat":
+        touching = tuple(g for g in touching if g.split("_")[-1] in ground.contacts)
+    pairs = [f'<pair geom1="floor" geom2="{geom}"/>' for geom in touching]
+    asset, floor = terrain.floor_xml(ground)
     legs = "".join(_leg(spec, i) for i in range(len(spec.legs)))
     solref = _vec(spec.contact_solref)
     solimp = f"{spec.contact_solimp} {spec.contact_solimp} 0.001 0.5 2"
@@ -291,9 +299,9 @@ def mjcf(spec: RobotSpec = HB40, split_pd: bool = False) -> str:
     <pair condim="3" friction="{spec.friction} {spec.friction} 0.005 0.0001 0.0001" solref="{solref}" solimp="{solimp}"/>
     <default class="visual"><geom mass="0" rgba="0.3 0.3 0.3 1"/></default>
     <default class="collision"><geom mass="0" rgba="0.5 0.5 0.5 1"/></default>
-  </default>
+  </default>{asset and chr(10) + '  ' + asset}
   <worldbody>
-    <geom name="floor" type="plane" size="0 0 0.05" rgba="0.8 0.8 0.8 1"/>
+    {floor}
     <light pos="0 0 3" dir="0 0 -1" directional="true"/>
     <body name="trunk" pos="0 0 {spec.home_height}">
       <freejoint name="root"/>
@@ -318,9 +326,15 @@ def mjcf(spec: RobotSpec = HB40, split_pd: bool = False) -> str:
 """
 
 
-def load_model(spec: RobotSpec = HB40, split_pd: bool = False) -> mujoco.MjModel:
-    """Native MuJoCo model of the robot (see `mjcf`)."""
-    return mujoco.MjModel.from_xml_string(mjcf(spec, split_pd))
+def load_model(spec: RobotSpec = HB40, split_pd: bool = False, ground=None) -> mujoco.MjModel:
+    """Native MuJoCo model of the robot on its ground (see `mjcf`); ValueError for a part MJX cannot collide with it."""
+    from mjx_badger import terrain
+
+    model = mujoco.MjModel.from_xml_string(mjcf(spec, split_pd, ground))
+    if ground is not None:
+        terrain.check_collisions(model)
+        terrain.set_heights(model, ground)
+    return model
 
 
 def standing_qpos(model: mujoco.MjModel, spec: RobotSpec = HB40, pose=None) -> np.ndarray:

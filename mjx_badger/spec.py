@@ -9,6 +9,7 @@ registry and every parameter against what its owner takes, and names the valid c
 import dataclasses
 
 from mjx_badger import actions, protocols, robot, tasks
+from mjx_badger import conditions as on_robot
 from mjx_badger.agents import ALGORITHMS, AgentConfig
 from mjx_badger.options import pairs
 from mjx_badger.protocols import Protocol
@@ -38,6 +39,10 @@ class RunSpec:
     """The task's keyword parameters, e.g. target_velocity=0.3 for forward."""
     robot: str = "hb40"
     """The robot description (robot.ROBOTS): 'hb40', the thesis code's, or 'hb40-v1', this suite's first."""
+    conditions: str = "sim"
+    """'sim' (the simulation chapter), or on-robot 'office' or 'outdoor' (§5.2; conditions.py)."""
+    condition_changes: pairs("--condition") = ()
+    """One-factor swaps of the conditions' fields, e.g. estimate_in_loop=False or ground.incline_deg=0."""
 
     def __post_init__(self):
         self.validate()
@@ -47,10 +52,12 @@ class RunSpec:
         for what, value, valid in (("approach", self.approach, actions.APPROACHES),
                                    ("algorithm", self.algo, ALGORITHMS), ("task", self.task, tasks.TASKS),
                                    ("protocol", self.protocol, protocols.PROTOCOLS),
-                                   ("robot", self.robot, robot.ROBOTS)):
+                                   ("robot", self.robot, robot.ROBOTS),
+                                   ("conditions", self.conditions, on_robot.CONDITIONS)):
             if value not in valid:
                 raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
         self.protocol_spec  # unknown protocol fields raise here
+        self.conditions_spec  # and unknown or invalid condition fields here
         actions.check_params(self.approach, dict(self.approach_params))
         actions.check_robot(self.approach, self.robot_spec, self.protocol_spec)
         tasks.check_params(self.task, dict(self.task_params), self.protocol_spec.rewards)
@@ -66,7 +73,20 @@ class RunSpec:
 
     @property
     def protocol_spec(self) -> Protocol:
-        return protocols.get(self.protocol, self.protocol_changes)
+        """The protocol with its swaps; on a robot (conditions.robot_controller) JT runs on the robot's own PD
+        controller at the algorithm's rate, as the released on-robot scripts do, and episodes last the robot's."""
+        spec = protocols.get(self.protocol, self.protocol_changes)
+        on_robot = self.conditions_spec
+        if on_robot.robot_controller:
+            spec = spec.replace(jt_pd_gains=self.robot_spec.pd_gains, jt_control_hz=None)
+        if on_robot.episode_seconds is not None:
+            spec = spec.replace(episode_seconds=on_robot.episode_seconds)
+        return spec
+
+    @property
+    def conditions_spec(self) -> on_robot.Conditions:
+        """The conditions with their swaps (conditions.get)."""
+        return on_robot.get(self.conditions, self.condition_changes)
 
     @property
     def agent_config(self) -> AgentConfig:

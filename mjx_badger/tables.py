@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from mjx_badger import real_world
 from mjx_badger.analysis import DIRECTIONS, display_name, final, series, summarize
 from mjx_badger.experiments import Experiment
 
@@ -127,5 +128,6 @@ def released_code_table(documents: dict, released: dict, profile: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-TABLES = {"comparison": comparison_table, "max-velocity": max_velocity_table, "omni": omni_table}
+TABLES = {"comparison": comparison_table, "max-velocity": max_velocity_table, "omni": omni_table,
+          "real": lambda experiment, documents, x_axis: real_world.table(experiment, documents)}
 """Table kind (Experiment.table) -> (experiment, documents, x_axis) -> Markdown."""

@@ -63,11 +63,17 @@ class TrainConfig(RunSpec):
         if self.env is not None:
             return self.env
         spec = self.protocol_spec
-        return EnvConfig(control_hz=spec.control_hz(actions.is_cpg(self.approach), self.algo), protocol=spec)
+        on_robot = self.conditions_spec if (self.conditions, self.condition_changes) != ("sim", ()) else None
+        return EnvConfig(control_hz=spec.control_hz(actions.is_cpg(self.approach), self.algo), protocol=spec,
+                         conditions=on_robot)
 
     @property
     def num_chunks(self) -> int:
         return -(-self.total_steps // self.chunk_steps)
+
+
+ESTIMATED = ("estimated_forward_velocity", "estimated_lateral_velocity", "estimated_desired_velocity")
+"""The onboard estimate's metrics, beside the true ones, where the env senses (on-robot conditions)."""
 
 
 class Carry(struct.PyTreeNode):
@@ -202,6 +208,7 @@ def make_train(config: TrainConfig) -> Trainer:
         metrics = {f"train/{k}": jnp.nanmean(steps[k]) for k in ("forward_velocity", "lateral_velocity", "yaw_rate",
                                                                 "height", "reward", "desired_velocity",
                                                                 "command_lateral_velocity", "desired_error")}
+        metrics.update({f"train/{k}": jnp.nanmean(steps[k]) for k in ESTIMATED if k in steps})  # sensing envs only
         metrics.update({k: steps[k][-1] for k in steps if k.startswith("curriculum/")})
         metrics.update({k: jnp.nanmean(v) for k, v in steps.items() if k.startswith("reward/")})
         metrics.update({f"train/{k}": jnp.nanmean(steps[k]) for k in ("critic_loss", "q_mean", "actor_loss",

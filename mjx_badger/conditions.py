@@ -1,0 +1,143 @@
+"""On-robot conditions: the thesis's real-world experiments (§5.2) as frozen settings of the simulated robot.
+
+`sim` is the simulation chapter's world and every experiment's default. `office` and `outdoor`
+are what learning on the HB40 met: the reward and the observation see the onboard velocity
+estimate, not the truth (§2.6.1: a Kalman filter over all four legs, which underestimates); the
+sensors are noisy; a safety monitor stops the motors on a tilt or a joint out of range, the
+episode ends as a fall, and an operator stands the robot up again, which costs wall time; and
+the ground is a smooth office floor or outdoor cobblestones on a slope. Each field is one
+factor, so `attribute` can swap one at a time (attribution.py).
+"""
+
+import dataclasses
+import math
+
+from mjx_badger.sensors import Sensing
+
+
+@dataclasses.dataclass(frozen=True)
+class Ground:
+    """The floor the robot walks on."""
+
+    terrain: str = "flat"
+    """'flat' (a plane) or 'cobblestones' (a height field of rounded stones)."""
+    friction: tuple = (1.1, 1.1)
+    """Sliding friction of the feet on it, drawn per episode uniformly from [low, high] (sim: the model's 1.1)."""
+    incline_deg: float = 0.0
+    """Slope of the ground, rising along the robot's forward (+x) direction."""
+    stone_m: float = 0.10
+    """Cobblestones: the stones' pitch (centre to centre), a typical setts pavement (assumed; the thesis shows photos)."""
+    relief_m: float = 0.02
+    """Cobblestones: the height from a joint between stones to a stone's crown (assumed)."""
+    cell_m: float = 0.02
+    """Cobblestones: the height field's grid spacing; MJX's cost grows with (geom radius / cell)^2."""
+    half_extent_m: float = 8.0
+    """Cobblestones: the field spans +-this around the start (a 10 s episode at 0.8 m/s stays within it)."""
+    contacts: tuple = ("foot",)
+    """Cobblestones: the robot's parts that collide with them (of RobotSpec.floor_contacts; MJX: spheres, capsules,
+    boxes and meshes only)."""
+
+    def validate(self) -> None:
+        if self.terrain not in ("flat", "cobblestones"):
+            raise ValueError(f"unknown terrain {self.terrain!r}; choose from flat, cobblestones")
+        low, high = self.friction
+        if not 0 < low <= high:
+            raise ValueError(f"ground friction range {self.friction} must satisfy 0 < low <= high")
+        if not -30 <= self.incline_deg <= 30:
+            raise ValueError(f"incline of {self.incline_deg} degrees: choose within -30..30")
+
+    @property
+    def incline_rad(self) -> float:
+        return math.radians(self.incline_deg)
+
+
+@dataclasses.dataclass(frozen=True)
+class Conditions:
+    """What the robot learns under: its senses, its safety monitor, its ground."""
+
+    name: str
+    sensing: Sensing | None = None
+    """Noisy sensors and an onboard velocity estimator (None: the simulator's truth, no estimate)."""
+    estimate_in_loop: bool = False
+    """The observation's trunk-velocity block and the reward's velocity are the estimate (§5.2: the robot had only it)."""
+    safety_stop: bool = False
+    """The robot stops itself, damping its motors (§5.2: P 0, D 3; the released code's collapse: D 5), counts a fall
+    and ends the episode, in place of the protocol's termination rule. The rule is the protocol's robot's:
+    thesis-code the released robot env's (heading pitched 30 deg, 4 rad/s, or 1.5 rad of roll or pitch),
+    thesis-text the on-robot loop's monitor (the fall tilt, or a joint out of range)."""
+    episode_seconds: float | None = None
+    """Episode length on the robot (the released robot env: 20 s); None: the protocol's."""
+    reset_seconds: float = 0.0
+    """Wall time an operator needs to stand the robot up after a fall, added to the run's duration (assumed)."""
+    ground: Ground = Ground()
+    push_newtons: float = 0.0
+    """Wind: a horizontal push of this size on the trunk, new direction each episode (0: none)."""
+    robot_controller: bool = False
+    """The joint-target approaches run on the robot's own PD controller (Kp 60, Kd 3) at their algorithm's rate
+    (CrossQ 40 Hz, SAC-UTD20 20 Hz, §5.2), as the released on-robot scripts run them, in place of the simulation
+    code's 25 / 1 at 50 Hz (thesis-code only; thesis-text is already so)."""
+
+    def validate(self) -> None:
+        self.ground.validate()
+        if self.estimate_in_loop and self.sensing is None:
+            raise ValueError(f"conditions {self.name!r}: the estimate in the loop needs sensing")
+        if self.reset_seconds < 0 or self.push_newtons < 0:
+            raise ValueError(f"conditions {self.name!r}: reset_seconds and push_newtons must not be negative")
+
+    def replace(self, **changes) -> "Conditions":
+        """A copy with fields changed (a one-factor swap); `ground.<field>` names a ground field, `sensing` takes
+        None or an estimator's name (the default sensors with it)."""
+        ground = {k.split(".", 1)[1]: v for k, v in changes.items() if k.startswith("ground.")}
+        rest = {k: v for k, v in changes.items() if not k.startswith("ground.")}
+        fields = {f.name for f in dataclasses.fields(self)} - {"name", "ground"}
+        unknown = sorted(set(rest) - fields) + [f"ground.{k}" for k in sorted(set(ground) - {f.name for f in
+                                                                                              dataclasses.fields(Ground)})]
+        if unknown:
+            raise ValueError(f"unknown condition fields {', '.join(unknown)}; choose from {', '.join(sorted(fields))}, "
+                             f"ground.{', ground.'.join(f.name for f in dataclasses.fields(Ground))}")
+        if isinstance(rest.get("sensing"), str):
+            rest["sensing"] = Sensing(estimator=rest["sensing"])
+        if isinstance(ground.get("friction"), (int, float)):
+            ground["friction"] = (float(ground["friction"]),) * 2
+        out = dataclasses.replace(self, ground=dataclasses.replace(self.ground, **ground), **rest)
+        out.validate()
+        return out
+
+
+SIM = Conditions("sim")
+"""The simulation chapter: true velocity, exact sensors, the protocol's termination rule, a flat floor."""
+
+OFFICE = Conditions(
+    "office",
+    sensing=Sensing(),
+    estimate_in_loop=True,
+    safety_stop=True,
+    reset_seconds=20.0,
+    episode_seconds=20.0,
+    ground=Ground(friction=(0.7, 0.7)),
+    robot_controller=True,
+)
+"""§5.2.1: an office's smooth floor (rubber feet on a hard floor, friction 0.7, assumed), the estimate in the loop,
+the safety monitor, and about 20 s to carry the robot back and stand it up (assumed)."""
+
+OUTDOOR = Conditions(
+    "outdoor",
+    sensing=Sensing(),
+    estimate_in_loop=True,
+    safety_stop=True,
+    reset_seconds=20.0,
+    episode_seconds=20.0,
+    ground=Ground(terrain="cobblestones", friction=(0.5, 1.0), incline_deg=3.0),
+    robot_controller=True,
+)
+"""§5.2.2-5.2.3: uneven cobblestones with a 3 degree incline, friction varying between spots (0.5-1.0, assumed),
+otherwise as the office."""
+
+CONDITIONS = {c.name: c for c in (SIM, OFFICE, OUTDOOR)}
+
+
+def get(name: str, changes: tuple = ()) -> Conditions:
+    """The conditions called `name` with `changes` ((field, value), ...); ValueError naming the choices."""
+    if name not in CONDITIONS:
+        raise ValueError(f"unknown conditions {name!r}; choose from {', '.join(CONDITIONS)}")
+    return CONDITIONS[name].replace(**dict(changes)) if changes else CONDITIONS[name]
