@@ -21,9 +21,9 @@ OUT = Path(__file__).parent / "results" / "bench_estimators.json"
 STEPS = 40
 
 
-def env_steps_per_s(sensing, batch: int) -> float:
-    """Control steps per second of jit(vmap(scan of env.step)) over `batch` robots."""
-    env = HB40Env("jt-oef", "forward", EnvConfig(sensing=sensing))
+def env_steps_per_s(sensing, batch: int, on_robot=None) -> float:
+    """Control steps per second of jit(vmap(scan of env.step)) over `batch` robots (`on_robot`: conditions)."""
+    env = HB40Env("jt-oef", "forward", EnvConfig(sensing=sensing, conditions=on_robot))
     actions = 0.3 * jnp.sin(jnp.arange(STEPS)[:, None] * 0.2 + jnp.arange(env.action_size))
 
     def rollout(key):

@@ -1,8 +1,10 @@
-"""One-factor swaps: which departure of the thesis text from its code moves which claim.
+"""One-factor swaps: which departure of the thesis text from its code, and which part of the reality gap,
+moves which claim.
 
 A `Swap` sets one protocol field (or one departure made of two fields, such as the JT gains
-and rate) to the other protocol's value, and names the runs that show its effect and the
-claims it may move. Each swap is run beside its unswapped baseline at the attribution size
+and rate) to the other protocol's value, or one field of the on-robot conditions back to the
+simulation's (the estimate, the stones, the slope, the friction, the noise, the safety stop),
+and names the runs that show its effect and the claims it may move. Each swap is run beside its unswapped baseline at the attribution size
 (2 seeds x 10k steps, smaller than `quick`; docs/attribution.md says so), under
 `results/attribution/<base protocol>/<swap or baseline>/<experiment>/`.
 """
@@ -17,6 +19,8 @@ from mjx_badger.experiments import EXPERIMENTS, Profile, Run, result_name
 from mjx_badger.train import TrainConfig
 
 PROFILE = Profile(2, 10_000, 1_000, 1_000, 400, "attribution runs: 2 seeds x 10k steps")
+REAL_MEASURES = ("eval/desired_velocity", "eval/estimated_desired_velocity", "falls_total_mean")
+"""What a condition swap moves: the true and the estimated evaluation speed, and the falls (safety stops)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -39,6 +43,10 @@ class Swap:
     value from the baseline runs themselves, so the swap trains nothing."""
     algos: tuple = ("crossq",)
     """The algorithms of the runs (each approach with each)."""
+    conditions: str = "sim"
+    """The conditions of the runs, baseline and swapped (conditions.py)."""
+    condition_changes: tuple = ()
+    """((field, value), ...) of the conditions set in the swapped runs: a one-factor swap of the reality gap."""
 
     @property
     def changes(self) -> tuple:
@@ -47,11 +55,12 @@ class Swap:
     def describe(self) -> str:
         """The swapped settings, as `field=value, ...`."""
         robot = () if self.robot == "hb40" else (("robot", self.robot),)
-        return ", ".join(f"{field}={value!r}" for field, value in robot + self.changes)
+        return ", ".join(f"{field}={value!r}" for field, value in robot + self.changes + self.condition_changes)
 
     def runs(self) -> tuple:
-        task = EXPERIMENTS[self.experiment].runs[0].task
-        return tuple(Run(approach, algo, task) for approach in self.approaches for algo in self.algos)
+        first = EXPERIMENTS[self.experiment].runs[0]
+        return tuple(Run(approach, algo, first.task, first.task_params) for approach in self.approaches
+                     for algo in self.algos)
 
 
 SWAPS = (
@@ -93,21 +102,34 @@ SWAPS = (
          ("eval/desired_mae", "eval/yaw_mae"), ("omni-cpg-vf-best",)),
     Swap("curriculum rules", "thesis-code", ("curriculum",), "omni-pdec", ("cpg-vf",), ("eval/desired_mae",),
          ("pdec-error", "pdec-beats-random")),
-)
+) + tuple(
+    # The reality gap, one part at a time: outdoor runs with one condition set back to the simulation's.
+    Swap(name, "thesis-code", (), "real-outdoor", ("jt-oef", "cpg-vf"), REAL_MEASURES, claims,
+         conditions="outdoor", condition_changes=changes)
+    for name, changes, claims in (
+        ("true velocity in the loop", (("estimate_in_loop", False),),
+         ("real-faster-than-believed", "real-outdoor-jt", "real-outdoor-cpg")),
+        ("flat ground", (("ground.terrain", "flat"),), ("real-outdoor-jt", "real-outdoor-cpg")),
+        ("no incline", (("ground.incline_deg", 0.0),), ("real-outdoor-jt", "real-outdoor-cpg")),
+        ("simulation friction", (("ground.friction", 1.1),), ("real-outdoor-jt", "real-outdoor-cpg")),
+        ("exact sensors", (("sensing", "exact"),), ("real-faster-than-believed", "real-outdoor-cpg")),
+        ("no safety stop", (("safety_stop", False),), ("real-excluded-fall", "real-outdoor-cpg")),
+    ))
 SWAPS_BY_NAME = {swap.name: swap for swap in SWAPS}
 
 
-def folder(results_dir: Path, swap: Swap | None, base: str) -> Path:
-    """Where a swap's runs (or, for None, the baseline's) live."""
-    label = "baseline" if swap is None else swap.name.replace(" ", "-")
+def folder(results_dir: Path, swap: Swap | None, base: str, conditions: str = "sim") -> Path:
+    """Where a swap's runs (or, for None, the baseline's under `conditions`) live."""
+    label = ("baseline" if conditions == "sim" else f"baseline-{conditions}") if swap is None else swap.name.replace(" ", "-")
     return Path(results_dir) / "attribution" / base / label
 
 
 def train_config(swap: Swap, run: Run, baseline: bool = False) -> TrainConfig:
-    return TrainConfig(approach=run.approach, algo=run.algo, task=run.task, total_steps=PROFILE.steps,
-                       chunk_steps=PROFILE.chunk_steps, warmup_steps=PROFILE.warmup_steps,
+    return TrainConfig(approach=run.approach, algo=run.algo, task=run.task, task_params=run.task_params,
+                       total_steps=PROFILE.steps, chunk_steps=PROFILE.chunk_steps, warmup_steps=PROFILE.warmup_steps,
                        eval_steps=PROFILE.eval_steps, protocol=swap.base,
-                       protocol_changes=() if baseline else swap.changes, robot="hb40" if baseline else swap.robot)
+                       protocol_changes=() if baseline else swap.changes, robot="hb40" if baseline else swap.robot,
+                       conditions=swap.conditions, condition_changes=() if baseline else swap.condition_changes)
 
 
 def planned(results_dir: Path, swaps: tuple = SWAPS):
@@ -116,7 +138,7 @@ def planned(results_dir: Path, swaps: tuple = SWAPS):
     for swap in swaps:
         for run in swap.runs():
             for baseline in (True,) if swap.counted_as else (True, False):
-                where = folder(results_dir, None if baseline else swap, swap.base)
+                where = folder(results_dir, None if baseline else swap, swap.base, swap.conditions)
                 path = where / swap.experiment / result_name(run)
                 if path not in seen:
                     seen.add(path)
@@ -149,6 +171,8 @@ def _words(value, measure: str) -> str:
         return f"{value:.2f} m/s desired MAE"
     if measure == "eval/yaw_mae":
         return f"{value:.2f} rad/s yaw MAE"
+    if measure == "eval/estimated_desired_velocity":
+        return f"{value:.2f} m/s estimated"
     return f"{value:.2f} m/s"
 
 
@@ -158,7 +182,7 @@ def table(results_dir: Path) -> str:
              "| claims it can move |", "|---|---|---|---|---|"]
     for swap in SWAPS:
         for run in swap.runs():
-            base_path = folder(results_dir, None, swap.base) / swap.experiment / result_name(run)
+            base_path = folder(results_dir, None, swap.base, swap.conditions) / swap.experiment / result_name(run)
             swapped_path = base_path if swap.counted_as else (
                 folder(results_dir, swap, swap.base) / swap.experiment / result_name(run))
             if not swapped_path.exists() or not results.read(swapped_path)["complete"]:

@@ -393,8 +393,10 @@ class Realtime:
 
         config = self.run
         # A real robot's adapter (interface.Robot) goes here in place of the simulated one.
-        bot = SimulatedHB40(noise=None if self.no_sensor_noise else sensors.SensorModel(), reset_seconds=self.reset_seconds,
-                            seed=config.seed, spec=config.robot_spec)
+        on_robot = config.conditions_spec
+        noise = on_robot.sensing.sensors if on_robot.sensing is not None else sensors.SensorModel()
+        bot = SimulatedHB40(noise=None if self.no_sensor_noise else noise, reset_seconds=self.reset_seconds,
+                            seed=config.seed, spec=config.robot_spec, conditions=on_robot)
         try:
             document = loop.run(config, bot, self.out, resume=not self.restart, view=not self.quiet)
         except ValueError as error:  # a saved run of another configuration in the folder

@@ -12,7 +12,7 @@ factor, so `attribute` can swap one at a time (attribution.py).
 import dataclasses
 import math
 
-from mjx_badger.sensors import Sensing
+from mjx_badger.sensors import EXACT, Sensing
 
 
 @dataclasses.dataclass(frozen=True)
@@ -45,6 +45,12 @@ class Ground:
             raise ValueError(f"ground friction range {self.friction} must satisfy 0 < low <= high")
         if not -30 <= self.incline_deg <= 30:
             raise ValueError(f"incline of {self.incline_deg} degrees: choose within -30..30")
+        parts = ("trunk", "thigh", "calf", "foot")
+        if not self.contacts or set(self.contacts) - set(parts):
+            raise ValueError(f"ground contacts {self.contacts}: choose one or more of {', '.join(parts)}")
+        for name in ("stone_m", "relief_m", "cell_m", "half_extent_m"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"ground {name} must be positive, not {getattr(self, name)}")
 
     @property
     def incline_rad(self) -> float:
@@ -78,7 +84,11 @@ class Conditions:
     code's 25 / 1 at 50 Hz (thesis-code only; thesis-text is already so)."""
 
     def validate(self) -> None:
+        from mjx_badger import estimators
+
         self.ground.validate()
+        if self.sensing is not None and self.sensing.estimator not in estimators.names():
+            raise ValueError(f"unknown estimator {self.sensing.estimator!r}; choose from {', '.join(estimators.names())}")
         if self.estimate_in_loop and self.sensing is None:
             raise ValueError(f"conditions {self.name!r}: the estimate in the loop needs sensing")
         if self.reset_seconds < 0 or self.push_newtons < 0:
@@ -86,7 +96,7 @@ class Conditions:
 
     def replace(self, **changes) -> "Conditions":
         """A copy with fields changed (a one-factor swap); `ground.<field>` names a ground field, `sensing` takes
-        None or an estimator's name (the default sensors with it)."""
+        None, 'exact' (exact sensors, the default estimator) or an estimator's name (the default sensors with it)."""
         ground = {k.split(".", 1)[1]: v for k, v in changes.items() if k.startswith("ground.")}
         rest = {k: v for k, v in changes.items() if not k.startswith("ground.")}
         fields = {f.name for f in dataclasses.fields(self)} - {"name", "ground"}
@@ -95,7 +105,9 @@ class Conditions:
         if unknown:
             raise ValueError(f"unknown condition fields {', '.join(unknown)}; choose from {', '.join(sorted(fields))}, "
                              f"ground.{', ground.'.join(f.name for f in dataclasses.fields(Ground))}")
-        if isinstance(rest.get("sensing"), str):
+        if rest.get("sensing") == "exact":
+            rest["sensing"] = Sensing(sensors=EXACT)
+        elif isinstance(rest.get("sensing"), str):
             rest["sensing"] = Sensing(estimator=rest["sensing"])
         if isinstance(ground.get("friction"), (int, float)):
             ground["friction"] = (float(ground["friction"]),) * 2

@@ -49,6 +49,8 @@ class Collect:
     """Trajectories walked side by side; 20 % of them are held out for validation."""
     task: str = "omni-random"
     """Whose commands the policy follows: omni-random commands every direction."""
+    action_noise: float = 0.0
+    """Std of Gaussian noise on the policy's actions (in [-1, 1]), as a policy still exploring acts; 0: its own."""
     seed: int = 0
     out: Path = Path("results/estimators/dataset.npz")
 
@@ -56,6 +58,8 @@ class Collect:
         from mjx_badger.tasks import TASKS
 
         _positive("steps", self.steps)
+        if not 0 <= self.action_noise <= 2:
+            raise ValueError(f"--action-noise {self.action_noise}: choose within 0..2")
         _positive("envs", self.envs)
         if self.steps < self.envs * 500:
             raise ValueError(f"--steps {self.steps}: at least 500 per env ({self.envs * 500} for --envs {self.envs})")
@@ -70,7 +74,8 @@ class Collect:
         per_env = self.steps // self.envs
         with tqdm(total=per_env * self.envs, unit="step", desc="collect") as bar:
             meta, arrays = learned_estimator.collect(self.results, per_env, self.envs, self.task, self.seed,
-                                                     progress=lambda done: bar.update(done * self.envs - bar.n))
+                                                     progress=lambda done: bar.update(done * self.envs - bar.n),
+                                                     action_noise=self.action_noise)
         learned_estimator.save_dataset(self.out, arrays, meta)
         print(f"wrote {self.out}: {per_env * self.envs:,} steps ({self.envs} trajectories x {per_env})")
         return 0

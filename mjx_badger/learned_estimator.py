@@ -114,9 +114,10 @@ def load_dataset(path: Path, spec: RobotSpec = HB40) -> tuple[dict, dict]:
 
 
 def collect(results_path: Path, steps: int, envs: int, task: str = "omni-random", seed: int = 0,
-            chunk: int = 500, progress=None) -> tuple[dict, dict]:
+            chunk: int = 500, progress=None, action_noise: float = 0.0) -> tuple[dict, dict]:
     """(meta, arrays) of a dataset: the best seed's saved policy of a run walking under `task`'s commands in
-    `envs` MJX envs for `steps` control steps each, its sensors exact. `progress(steps_done)` after each chunk."""
+    `envs` MJX envs for `steps` control steps each, its sensors exact, Gaussian noise of std `action_noise` on its
+    actions (as a policy still exploring in training acts). `progress(steps_done)` after each chunk."""
     from mjx_badger import analysis, policy, results, sensors
     from mjx_badger.env import HB40Env
 
@@ -133,19 +134,23 @@ def collect(results_path: Path, steps: int, envs: int, task: str = "omni-random"
     if env.observation_size != saved.observation_size:
         raise ValueError(f"{results_path}: its policy observes {saved.observation_size} values, the env {env.observation_size}")
 
-    def one(state, _):
-        state = env.step(state, saved.apply(state.obs, jnp))
+    def one(state, key):
+        action = saved.apply(state.obs, jnp)
+        if action_noise:
+            action = jnp.clip(action + action_noise * jax.random.normal(key, action.shape), -1.0, 1.0)
+        state = env.step(state, action)
         reading = state.info["reading"]
         rotation = state.pipeline_state.xmat[env._trunk]
         record = {name: frame(reading, (name,)) for name, _ in FIELDS}
         record.update(velocity=rotation.T @ state.pipeline_state.qvel[:3], done=state.done > 0)
         return state, record
 
-    run = jax.jit(jax.vmap(lambda s: jax.lax.scan(one, s, None, length=chunk)))
+    run = jax.jit(jax.vmap(lambda s, k: jax.lax.scan(one, s, jax.random.split(k, chunk))))
     state = jax.jit(jax.vmap(env.reset))(jax.random.split(jax.random.PRNGKey(seed), envs))
+    noise_key = jax.random.PRNGKey(seed + 1)
     parts = []
     for done in range(0, steps, chunk):
-        state, record = run(state)
+        state, record = run(state, jax.random.split(jax.random.fold_in(noise_key, done), envs))
         parts.append(jax.tree.map(lambda x: np.swapaxes(np.asarray(x), 0, 1), record))  # (chunk, envs, ...)
         if progress is not None:
             progress(min(done + chunk, steps))
@@ -153,7 +158,7 @@ def collect(results_path: Path, steps: int, envs: int, task: str = "omni-random"
     meta = {"robot": config.robot_spec.name, "fields": [list(f) for f in FIELDS], "policy": str(results_path),
             "policy_seed": policy_seed, "approach": config.approach, "task": task,
             "protocol": env_config.protocol.name, "control_hz": env.control_hz, "steps": steps, "envs": envs,
-            "seed": seed, "sensors": "exact (no noise, as the thesis's dataset)"}
+            "seed": seed, "action_noise": action_noise, "sensors": "exact (no noise, as the thesis's dataset)"}
     return meta, arrays
 
 

@@ -57,7 +57,9 @@ class RunSpec:
             if value not in valid:
                 raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
         self.protocol_spec  # unknown protocol fields raise here
-        self.conditions_spec  # and unknown or invalid condition fields here
+        ground = self.conditions_spec.ground  # unknown or invalid condition fields raise here
+        if ground.terrain != "flat":  # and parts MJX cannot collide with a height field here (a model, no compile)
+            robot.load_model(self.robot_spec, ground=ground)
         actions.check_params(self.approach, dict(self.approach_params))
         actions.check_robot(self.approach, self.robot_spec, self.protocol_spec)
         tasks.check_params(self.task, dict(self.task_params), self.protocol_spec.rewards)

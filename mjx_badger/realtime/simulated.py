@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 
 from mjx_badger import robot, sensors
+from mjx_badger.conditions import SIM, Conditions
 from mjx_badger.realtime import scheduling
 from mjx_badger.realtime.interface import Sensors
 
@@ -21,9 +22,11 @@ class SimulatedHB40:
     """The HB40 (or another robot spec) in native MuJoCo with its physics thread; implements `interface.Robot`."""
 
     def __init__(self, noise: sensors.SensorModel | None = sensors.SensorModel(), reset_seconds: float = 2.0, seed: int = 0,
-                 spec: robot.RobotSpec = robot.HB40):
+                 spec: robot.RobotSpec = robot.HB40, conditions: Conditions = SIM):
         self.spec = spec
-        self.model = robot.load_model(spec)
+        self.conditions = conditions
+        # On the conditions' ground (a flat floor, or the cobblestones on their slope), its friction drawn per reset.
+        self.model = robot.load_model(spec, ground=conditions.ground if conditions is not SIM else None)
         self.data = mujoco.MjData(self.model)
         self.noise = sensors.EXACT if noise is None else noise
         self.reset_seconds = reset_seconds
@@ -100,7 +103,14 @@ class SimulatedHB40:
             self._sensors = self._measure()
 
     def _stand(self):
+        ground = self.conditions.ground
+        if ground.friction != (self.spec.friction,) * 2:  # a new spot of the floor at every reset
+            self.model.pair_friction[:, :2] = self._rng.uniform(*ground.friction)
         mujoco.mj_resetData(self.model, self.data)
+        if self.conditions.push_newtons:  # the wind, from a new direction each time the robot stands again
+            heading = self._rng.uniform(0.0, 2 * np.pi)
+            self.data.xfrc_applied[self._trunk, :3] = self.conditions.push_newtons * np.array(
+                [np.cos(heading), np.sin(heading), 0.0])
         self.data.qpos[:] = robot.standing_qpos(self.model, self.spec)
         self._targets = np.asarray(robot.nominal_pose(self.spec), dtype=np.float64)
         self._gains = self.spec.pd_gains
