@@ -9,7 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mjx_badger import results  # noqa: E402
+from mjx_badger import results, safe_io  # noqa: E402
 from mjx_badger.actions import APPROACHES  # noqa: E402
 from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_frequency, released_code,  # noqa: E402
                                  load_experiment, series, summarize)
@@ -57,9 +57,10 @@ def curve_panel(ax, documents: dict, metric: str, title: str, ylabel: str, x_axi
 
 
 def _save(fig, out: Path) -> Path:
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
+    try:
+        safe_io.save_figure(fig, out, dpi=110)
+    finally:
+        plt.close(fig)
     return out
 
 
@@ -333,20 +334,47 @@ def realtime_figure(document: dict, trace: np.ndarray, out: Path) -> Path:
     return _save(fig, out)
 
 
-def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protocol: str = "thesis-code") -> list[Path]:
+def complete_runs(experiment: Experiment, documents: dict) -> tuple[int, int]:
+    """(runs of `experiment` with complete results among `documents`, runs it has)."""
+    return sum(bool(d.get("complete")) for d in documents.values()), len({experiment.label(r) for r in experiment.runs})
+
+
+def keep_existing(paths: list[Path], why: str, kept: list | None) -> bool:
+    """Whether any of `paths` exists, to be kept rather than redrawn from fewer results; notes each kept in `kept`."""
+    existing = [path for path in paths if path.exists()]
+    if kept is not None:
+        kept.extend((path, why) for path in existing)
+    return bool(existing)
+
+
+def experiment_files(experiment: Experiment, figures_dir: Path, profile: str) -> list[Path]:
+    """Every file `draw` writes for `experiment` into `figures_dir` (one protocol's)."""
+    name = experiment.name
+    paths = [figures_dir / f"{name}{'' if index == 0 else f'_vs_{experiment.baseline}' if kind == 'versus' else f'_{kind}'}"
+                           f"_{profile}.png" for index, kind in enumerate(experiment.figures)]
+    return paths + [figures_dir / f"{name}_{profile}.md", figures_dir / f"{name}_vs_released-code_{profile}.md"]
+
+
+def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protocol: str = "thesis-code",
+         kept: list | None = None) -> list[Path]:
     """Draw every figure and table whose results exist; returns the files written.
 
     `results_dir` holds one protocol's experiments; files go to figures_dir/<protocol>/ and every
-    title names the profile and the protocol.
+    title names the profile and the protocol. An experiment with fewer complete runs than it has
+    keeps the files it already has there instead (each appended to `kept` with the reason), so
+    that a partial rerun never replaces a figure drawn from more results.
     """
     written = []
     figures_dir = Path(figures_dir) / protocol
-    figures_dir.mkdir(parents=True, exist_ok=True)
     label = f"{profile} profile, {protocol} protocol"
     loaded = {name: load_experiment(EXPERIMENTS[name], Path(results_dir) / name) for name in EXPERIMENTS}
     for name in names or EXPERIMENTS:
         experiment, documents = EXPERIMENTS[name], loaded[name]
         if not documents:
+            continue
+        done, needed = complete_runs(experiment, documents)
+        if done < needed and keep_existing(experiment_files(experiment, figures_dir, profile),
+                                           f"{done} of {needed} runs complete under {Path(results_dir) / name}", kept):
             continue
         for index, kind in enumerate(experiment.figures):
             suffix = "" if index == 0 else f"_vs_{experiment.baseline}" if kind == "versus" else f"_{kind}"
@@ -354,14 +382,18 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protoco
             written += [path] if path is not None else []
         table_path = figures_dir / f"{name}_{profile}.md"
         table = TABLES[experiment.table](experiment, documents, experiment.x_axis)
-        table_path.write_text(f"Protocol: {protocol}, profile: {profile}\n\n" + table)
+        safe_io.write_text(table_path, f"Protocol: {protocol}, profile: {profile}\n\n" + table)
         written.append(table_path)
         released = released_code(name) if protocol == "thesis-code" else None
         if released is not None:  # the released code's own spread, the check for thesis-code
             beside = figures_dir / f"{name}_vs_released-code_{profile}.md"
-            beside.write_text(f"Protocol: {protocol}, profile: {profile}. {released['what']}\n\n"
+            safe_io.write_text(beside, f"Protocol: {protocol}, profile: {profile}. {released['what']}\n\n"
                               + released_code_table(documents, released, profile))
             written.append(beside)
-    if any(loaded.values()):
-        written.append(overview_figure(loaded, figures_dir / f"overview_{profile}.png", label))
+    short = [name for name, experiment in EXPERIMENTS.items()
+             if complete_runs(experiment, loaded[name])[0] < complete_runs(experiment, loaded[name])[1]]
+    overview = figures_dir / f"overview_{profile}.png"
+    if any(loaded.values()) and not (short and keep_existing([overview], f"experiments {', '.join(short)} are not "
+                                                                         "complete", kept)):
+        written.append(overview_figure(loaded, overview, label))
     return written

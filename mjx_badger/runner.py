@@ -1,7 +1,9 @@
 """Host side of a training run: compile once, run chunk by chunk, show progress, write results."""
 
 import collections
+import contextlib
 import dataclasses
+import shutil
 import json
 import sys
 import time
@@ -14,10 +16,11 @@ import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from tqdm import tqdm
 
-from mjx_badger import checkpoints, policy, results
+from mjx_badger import checkpoints, locks, policy, results, stops
 from mjx_badger.cluster import agreed_max, gather, writes
 from mjx_badger import tensorboard as event_files
 from mjx_badger.train import TrainConfig, make_train
+from mjx_badger.validation import Refused
 
 
 def seeds_chunk(trainer, num_seeds: int):
@@ -170,15 +173,31 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     configuration and seeds that was interrupted continues from its last checkpoint, and
     ends with the numbers an uninterrupted run gives. The checkpoints go once the run is complete.
     With `tensorboard`, the metrics also go to event files beside the results (tensorboard.py).
+    While it runs it holds the lock of `out_path` (locks.py): a second run into the same file is
+    refused. SIGINT or SIGTERM stop it after the chunk at hand, saved (stops.py).
     """
-    started = results.now()
-    trainer = make_train(config)
-    carry, chunk, compile_s = compiled(trainer, seeds)
-    member = Member(config, list(seeds), out_path, trainer.env)
-    carry, (document,) = train_loop([member], carry, chunk, lambda carry, metrics: [(metrics, carry.diverged_at)],
-                                    out_path, started, compile_s, progress, resume, tensorboard)
-    gait = gather(_gait(trainer, len(seeds))(carry))
-    return finish(member, document, gait, carry.agent_state)
+    with writing(out_path), stops.graceful():
+        started = results.now()
+        trainer = make_train(config)
+        carry, chunk, compile_s = compiled(trainer, seeds)
+        member = Member(config, list(seeds), out_path, trainer.env)
+        carry, (document,) = train_loop([member], carry, chunk, lambda carry, metrics: [(metrics, carry.diverged_at)],
+                                        out_path, started, compile_s, progress, resume, tensorboard)
+        gait = gather(_gait(trainer, len(seeds))(carry))
+        document = finish(member, document, gait, carry.agent_state)
+        remove_checkpoints(out_path)
+        return document
+
+
+def writing(out_path: Path):
+    """The lock of `out_path` in the process that writes it (with several processes, process 0 only)."""
+    return locks.hold(out_path) if writes() else contextlib.nullcontext()
+
+
+def remove_checkpoints(checkpoint_path: Path) -> None:
+    """A complete run keeps no checkpoints: they go once its policy, agents and final results are written."""
+    if writes():
+        shutil.rmtree(checkpoints.folder(checkpoint_path), ignore_errors=True)
 
 
 def _gait(trainer, num_seeds: int) -> Callable:
@@ -244,7 +263,7 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
             document["sim_minutes"].append(round(steps / member.env.control_hz / 60, 4))
             for name, values in own.items():
                 document["metrics"].setdefault(name, []).append(np.asarray(values, dtype=float).round(5).tolist())
-            document["complete"] = complete
+            document["complete"] = False  # until `finish` has written the policy and agents too
             note_divergence(document, gather(diverged_at), member.out_path)
             document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2),
                                           checkpoint_s=round(save_s, 2),
@@ -258,6 +277,21 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
                 document["wall_clock"]["tensorboard_s"] = round(document["wall_clock"].get("tensorboard_s", 0.0)
                                                                 + time.perf_counter() - t0, 3)
         since_saved += 1
+        stop = stops.requested() is not None and not complete
+        if jax.process_count() > 1:  # every process stops at the same chunk
+            stop = bool(agreed_max(float(stop))[0])
+        if stop:
+            saved.save(index + 1, carry)
+            saved.close()
+            bar.close()
+            for writer in events:
+                if writer is not None:
+                    writer.close()
+            signum = stops.requested() or stops.SIGNALS[1]
+            raise stops.Interrupted(signum, f"stopped by {stops.name(signum)} at step {steps} of "
+                                    f"{config.num_chunks * config.chunk_steps}: results in {members[0].out_path}"
+                                    f"{' and its sweep members' if len(members) > 1 else ''}, checkpoint in "
+                                    f"{saved.path}; run the same command again to resume")
         if not complete and since_saved >= every:
             t0 = time.perf_counter()
             saved.save(index + 1, carry)
@@ -271,8 +305,7 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
     for writer in events:
         if writer is not None:
             writer.close()
-    if writes():
-        saved.remove()
+    saved.close()
     return carry, documents
 
 
@@ -284,6 +317,7 @@ def finish(member: Member, document: dict, gait: dict, agent_states) -> dict:
     actor = gather((agent_states.actor_params, agent_states.actor_stats))  # every process takes part
     if writes():
         save_policy(member, actor, document)
+        document["complete"] = True  # last: a run stopped before this point resumes from its checkpoint
         results.write(member.out_path, document)
     return document
 
@@ -304,8 +338,9 @@ def _partial(path: Path, fresh: dict) -> dict | None:
         return None
     try:
         previous = results.read(path)
-    except ValueError:
-        return None
+    except ValueError as error:
+        raise Refused(f"cannot resume: {error}; move it away, or start the run over (train, sweep: --restart; "
+                      "reproduce: --force)") from None
     same = previous["config"] == json.loads(json.dumps(fresh["config"])) and previous["seeds"] == fresh["seeds"]
     return previous if same and not previous.get("complete") else None
 

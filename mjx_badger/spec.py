@@ -8,12 +8,21 @@ registry and every parameter against what its owner takes, and names the valid c
 
 import dataclasses
 
-from mjx_badger import actions, protocols, robot, tasks
+from mjx_badger import actions, protocols, robot, tasks, validation
 from mjx_badger.agents import ALGORITHMS, AgentConfig
 from mjx_badger.options import pairs
 from mjx_badger.protocols import Protocol
 
 AGENT_FIELDS = tuple(f.name for f in dataclasses.fields(AgentConfig) if f.name != "name")
+
+
+def protocol_words(field: str) -> tuple:
+    """The words a protocol field of words takes: the protocols' own values (and the CPG's other residual modes)."""
+    values = [getattr(p, field) for p in protocols.PROTOCOLS.values()]
+    if not all(isinstance(v, str) for v in values):
+        return ()
+    extra = actions.RESIDUAL_MODES if field == "cpg_residual" else ()
+    return tuple(dict.fromkeys([*values, *extra]))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -50,6 +59,12 @@ class RunSpec:
                                    ("robot", self.robot, robot.ROBOTS)):
             if value not in valid:
                 raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
+        for field, value in self.protocol_changes:  # the kind of value each field holds, before it is set
+            if field in protocols.FIELDS:
+                validation.like("protocol field", field, value, getattr(protocols.PROTOCOLS[self.protocol], field))
+                words = protocol_words(field)
+                if words and value not in words:
+                    raise ValueError(f"protocol field {field} takes {', '.join(words)}, not {value!r}")
         self.protocol_spec  # unknown protocol fields raise here
         actions.check_params(self.approach, dict(self.approach_params))
         actions.check_robot(self.approach, self.robot_spec, self.protocol_spec)
@@ -58,6 +73,10 @@ class RunSpec:
         if unknown:
             raise ValueError(f"algorithm parameters {', '.join(unknown)} are not AgentConfig fields; "
                              f"choose from {', '.join(AGENT_FIELDS)}")
+        validation.params("approach parameter", self.approach_params)
+        validation.params("task parameter", self.task_params)
+        agent = dataclasses.asdict(self.protocol_spec.agent_config(self.algo))
+        validation.params("algorithm parameter", self.algo_params, agent)
 
     @property
     def robot_spec(self) -> "robot.RobotSpec":
