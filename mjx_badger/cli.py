@@ -485,7 +485,8 @@ class SavedRun:
         if not saved.is_file():
             raise ValueError(f"{self.results}: its saved policy {str(saved)!r} is missing (a committed reference "
                              "result keeps only its best seed's, where one was attached)")
-        policy.load(saved, self.seed)  # the seed exists
+        policy.load(saved, self.seed)  # the seed exists, the file is whole
+        results.train_config(document)  # the run can be rebuilt
         if self.seed in results.diverged(document):
             raise ValueError(f"seed {self.seed} of {self.results.name} diverged at step "
                              f"{results.diverged(document)[self.seed]}; its policy is frozen from before, choose another")

@@ -201,6 +201,9 @@ def run(base: TrainConfig, axes: tuple, seeds: list[int], out_dir: Path, vmapped
         for path in [checkpoint_path] + [Path(out_dir) / f"{sweep.name(config)}.json" for config in sweep.configs]:
             held.enter_context(runner.writing(path))  # one sweep at a time into these files
         held.enter_context(stops.graceful())
+        if resume:
+            for config in sweep.configs:
+                runner.check_resumable(Path(out_dir) / f"{sweep.name(config)}.json")
         return _run(sweep, checkpoint_path, seeds, out_dir, progress, resume, tensorboard)
 
 
