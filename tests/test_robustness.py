@@ -90,7 +90,7 @@ def test_evaluate_and_render_name_a_missing_saved_policy(capsys, command, tmp_pa
     (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--command", "0.5,0,inf"],
      "--command YAW must be a finite number"),
     (["attribute", "--only"], "--only needs at least one swap"),
-    (["claims", "--json", "/proc/version/board.json"], "not writable"),
+    (["claims", "--json", "/proc/version/board.json"], "is a file, not a folder"),
     (["claims", "--json", "b.json", "--markdown", "b.json"], "--json and --markdown name the same file"),
     (["publish", "--results-dir", str(REPO / "figures" / "data")], "--to names the reference folder"),
 ])
@@ -114,7 +114,10 @@ def test_a_run_that_cannot_fit_is_refused_with_the_estimate_before_compiling(cap
     err = _refused(capsys, ["train", "--seeds", "1000", "--steps", "50000", "--out", str(tmp_path / "out")],
                    "the run does not fit", "1000 seeds x 26.2 MiB carry", "8.0 GiB memory available of 16.0 GiB")
     assert float(err.split("~")[1].split(" GiB")[0]) > 50  # 1000 x 26 MiB, twice, and the process
-    assert not any(phase == "xla_compile_s" for _, phase, _, _ in conftest.COMPILES[compiles:])
+    # Building the env's shapes dispatches a few eager conversions (milliseconds each); a training program's
+    # chunk compiles for 30-60 s.
+    compiled = [(program, s) for _, phase, program, s in conftest.COMPILES[compiles:] if phase == "xla_compile_s"]
+    assert sum(s for _, s in compiled) < 1.0 and not any("chunk" in program for program, _ in compiled), compiled
     assert not (tmp_path / "out").exists()
     _refused(capsys, ["sweep", "--seeds", "200", "--vary", "algo_params.learning_rate=0.001,0.002", "--out",
                       str(tmp_path / "out")], "the run does not fit", "2 members x 200 seeds")
@@ -136,7 +139,7 @@ def test_the_estimate_scales_with_seeds_steps_and_sweep_members():
     from mjx_badger.train import TrainConfig
 
     small, large = TrainConfig(total_steps=10_000, chunk_steps=1000), TrainConfig(total_steps=50_000)
-    assert memory.carry_sizes(large)["replay_bytes"] == pytest.approx(5 * memory.carry_sizes(small)["replay_bytes"])
+    assert memory.carry_sizes(large)["replay_bytes"] == pytest.approx(5 * memory.carry_sizes(small)["replay_bytes"], rel=1e-4)
     grow = lambda config, **k: memory.estimate(config, **k) - memory.OVERHEAD_BYTES
     assert grow(large, seeds=4) == 4 * grow(large, seeds=1) == 2 * grow(large, seeds=2, members=1)
     assert grow(large, seeds=2, members=3) == 6 * grow(large, seeds=1)
@@ -227,12 +230,12 @@ def test_a_partial_reproduce_draws_under_its_results_and_keeps_the_verdicts_it_c
     assert rows(board.read_text()) == rows(before)  # no results here: every verdict kept, totals the same
     kept = [line for line in out.splitlines() if line.startswith("kept ")]
     assert len(kept) == 2 * len(claims.CLAIMS) - before.count("not run yet") and "no results for it under" in kept[0]
-    assert sorted(p.name for p in (tmp_path / "results").iterdir()) == ["figures", "quick"]  # nothing outside it
+    assert [p.name for p in tmp_path.iterdir()] == ["results"]  # nothing written outside the run's results folder
 
 
 def test_the_scoreboard_takes_new_verdicts_and_keeps_only_the_missing_ones():
-    old = claims.scoreboard_markdown({"thesis-code": [claims.Verdict(c, True, "old") for c in claims.CLAIMS]})
-    new = [claims.Verdict(c, False, "new") if i == 0 else claims.Verdict(c, None, "no results yet")
+    old = claims.scoreboard_markdown({"thesis-code": [claims.Verdict(c, "old", True) for c in claims.CLAIMS]})
+    new = [claims.Verdict(c, "new", False) if i == 0 else claims.Verdict(c, "no results yet", None)
            for i, c in enumerate(claims.CLAIMS)]
     text, kept = claims.keep_decided(claims.scoreboard_markdown({"thesis-code": new}), old)
     assert "fails: new" in text and text.count("**holds**: old") == len(claims.CLAIMS) - 1
