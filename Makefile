@@ -7,7 +7,7 @@ PROTOCOL ?= thesis-code
 # Test files run in this many processes, a file's tests in one (they share its compiled functions).
 TEST_WORKERS ?= 2
 
-.PHONY: install test test-slow reproduce-figures figures benchmark bench-peers clean
+.PHONY: install test test-slow reproduce-figures figures reference-figures benchmark bench-peers clean
 
 $(VENV)/.installed: pyproject.toml requirements.lock
 	$(PYTHON) -m venv $(VENV)
@@ -24,11 +24,17 @@ test: install
 test-slow: install
 	$(PY) -m pytest -q -m slow -n $(TEST_WORKERS) --dist loadfile
 
+# A user's run: results, figures and scoreboard all under results/ (git-ignored; docs/robustness.md).
 reproduce-figures: install
 	$(PY) -m mjx_badger reproduce --profile $(PROFILE) --protocol $(PROTOCOL)
 
 figures: install
 	$(PY) -m mjx_badger figures --profile $(PROFILE) --protocol $(PROTOCOL)
+
+# Maintainers: the committed figures and scoreboard redrawn from the committed results (figures/data), by name.
+reference-figures: install
+	$(PY) -m mjx_badger figures --results-dir figures/data --figures-dir figures --profile $(PROFILE) --protocol $(PROTOCOL)
+	$(PY) -m mjx_badger claims --results-dir figures/data --profile $(PROFILE) --markdown figures/claims_$(PROFILE).md
 
 benchmark: install
 	$(PY) benchmarks/bench_spine.py
