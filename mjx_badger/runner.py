@@ -191,14 +191,27 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
         return document
 
 
+@contextlib.contextmanager
 def writing(out_path: Path):
-    """The lock of `out_path` in the process that writes it (with several processes, process 0 only)."""
-    return locks.hold(out_path) if writes() else contextlib.nullcontext()
+    """The lock of `out_path`, held by the process that writes it (process 0 of several, the others told if it
+    is refused, so that none waits for it)."""
+    with contextlib.ExitStack() as held:
+        refused = None
+        if writes():
+            try:
+                held.enter_context(locks.hold(out_path))
+            except Refused as error:
+                refused = error
+        if jax.process_count() > 1 and agreed_max(float(refused is not None))[0]:
+            refused = refused or Refused(f"{out_path} is being written by another run (process 0 found its lock)")
+        if refused is not None:
+            raise refused
+        yield
 
 
 def check_resumable(path: Path) -> None:
     """Refused, before anything compiles, if a results file to resume from is there but cannot be read."""
-    if Path(path).exists() and writes():
+    if Path(path).exists():
         _partial(path, None)
 
 
