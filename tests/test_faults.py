@@ -132,3 +132,20 @@ def test_a_damaged_results_file_is_named_and_resume_refuses_it_before_compiling(
         line = _one_line_error(capsys, "cannot resume")
         assert str(path) in line and "--restart" in line
         assert path.read_text() == damaged  # refused: left as it was
+
+
+@pytest.mark.slow  # a sweep program of its own: minutes of compile (`make test-slow`)
+def test_a_sweep_stopped_by_sigterm_resumes_to_the_uninterrupted_sweep(tmp_path, monkeypatch, capsys):
+    sweep = ["sweep", *TRAIN[1:], "--vary", "task_params.target_velocity=0.4,0.5"]
+    members = [f"{TINY_TRAIN.name}_target_velocity={v}.json" for v in ("0.4", "0.5")]
+    assert main([*sweep, "--out", str(tmp_path / "whole")]) == 0
+    out = tmp_path / "stopped"
+    _on_write(monkeypatch, members[1], 1, lambda _: os.kill(os.getpid(), signal.SIGTERM))
+    assert main([*sweep, "--out", str(out)]) == 128 + signal.SIGTERM
+    assert "stopped by SIGTERM at step 100" in capsys.readouterr().err
+    assert all(results.read(out / name)["steps"] == [TINY_TRAIN.chunk_steps] for name in members)
+    monkeypatch.undo()
+    assert main([*sweep, "--out", str(out)]) == 0
+    assert "resuming" in capsys.readouterr().err
+    for name in members:
+        assert _without_clock(results.read(out / name)) == _without_clock(results.read(tmp_path / "whole" / name))
