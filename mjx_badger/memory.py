@@ -16,7 +16,7 @@ import jax
 GIB = 2**30
 MIB = 2**20
 OVERHEAD_BYTES = int(2.0 * GIB)
-"""Python, JAX, MuJoCo and XLA compiling the chunk (benchmarks/results/memory_peak.json: 1.2-1.6 GiB measured)."""
+"""Python, JAX, MuJoCo and XLA compiling the chunk (benchmarks/results/memory_peak.json: about 1.5 GiB measured)."""
 CARRY_COPIES = 2
 """The carry on the device and one more: the chunk's output before the donated input is freed, or the host
 copy a checkpoint writes (on a CPU both are host memory)."""
