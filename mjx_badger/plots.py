@@ -9,7 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mjx_badger import results, safe_io  # noqa: E402
+from mjx_badger import drawn, results, safe_io  # noqa: E402
 from mjx_badger.actions import APPROACHES  # noqa: E402
 from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_frequency, released_code,  # noqa: E402
                                  load_experiment, series, summarize)
@@ -334,19 +334,6 @@ def realtime_figure(document: dict, trace: np.ndarray, out: Path) -> Path:
     return _save(fig, out)
 
 
-def complete_runs(experiment: Experiment, documents: dict) -> tuple[int, int]:
-    """(runs of `experiment` with complete results among `documents`, runs it has)."""
-    return sum(bool(d.get("complete")) for d in documents.values()), len({experiment.label(r) for r in experiment.runs})
-
-
-def keep_existing(paths: list[Path], why: str, kept: list | None) -> bool:
-    """Whether any of `paths` exists, to be kept rather than redrawn from fewer results; notes each kept in `kept`."""
-    existing = [path for path in paths if path.exists()]
-    if kept is not None:
-        kept.extend((path, why) for path in existing)
-    return bool(existing)
-
-
 def experiment_files(experiment: Experiment, figures_dir: Path, profile: str) -> list[Path]:
     """Every file `draw` writes for `experiment` into `figures_dir` (one protocol's)."""
     name = experiment.name
@@ -360,22 +347,24 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protoco
     """Draw every figure and table whose results exist; returns the files written.
 
     `results_dir` holds one protocol's experiments; files go to figures_dir/<protocol>/ and every
-    title names the profile and the protocol. An experiment with fewer complete runs than it has
-    keeps the files it already has there instead (each appended to `kept` with the reason), so
-    that a partial rerun never replaces a figure drawn from more results.
+    title names the profile and the protocol. An experiment's files drawn before from more
+    complete runs than there are now are kept instead (each appended to `kept` with the reason;
+    drawn.py), so that a partial rerun never replaces a fuller figure.
     """
     written = []
     figures_dir = Path(figures_dir) / protocol
     label = f"{profile} profile, {protocol} protocol"
     loaded = {name: load_experiment(EXPERIMENTS[name], Path(results_dir) / name) for name in EXPERIMENTS}
+    record = drawn.Drawn(figures_dir, profile)
     for name in names or EXPERIMENTS:
         experiment, documents = EXPERIMENTS[name], loaded[name]
         if not documents:
             continue
-        done, needed = complete_runs(experiment, documents)
-        if done < needed and keep_existing(experiment_files(experiment, figures_dir, profile),
-                                           f"{done} of {needed} runs complete under {Path(results_dir) / name}", kept):
+        done, needed = drawn.complete_runs(experiment, documents)
+        if record.keeps(experiment_files(experiment, figures_dir, profile), done, needed,
+                        f"{done} of {needed} runs complete under {Path(results_dir) / name}", kept):
             continue
+        before = len(written)
         for index, kind in enumerate(experiment.figures):
             suffix = "" if index == 0 else f"_vs_{experiment.baseline}" if kind == "versus" else f"_{kind}"
             path = FIGURES[kind](experiment, documents, figures_dir / f"{name}{suffix}_{profile}.png", label, loaded)
@@ -390,10 +379,12 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protoco
             safe_io.write_text(beside, f"Protocol: {protocol}, profile: {profile}. {released['what']}\n\n"
                               + released_code_table(documents, released, profile))
             written.append(beside)
-    short = [name for name, experiment in EXPERIMENTS.items()
-             if complete_runs(experiment, loaded[name])[0] < complete_runs(experiment, loaded[name])[1]]
+        record.note(written[before:], done)
+    counts = [drawn.complete_runs(experiment, loaded[name]) for name, experiment in EXPERIMENTS.items()]
+    done, needed = sum(c[0] for c in counts), sum(c[1] for c in counts)
     overview = figures_dir / f"overview_{profile}.png"
-    if any(loaded.values()) and not (short and keep_existing([overview], f"experiments {', '.join(short)} are not "
-                                                                         "complete", kept)):
+    if any(loaded.values()) and not record.keeps([overview], done, needed, f"{done} of {needed} runs complete "
+                                                                          f"under {results_dir}", kept):
         written.append(overview_figure(loaded, overview, label))
+        record.note([overview], done)
     return written

@@ -109,9 +109,9 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names, protocol: st
          kept: list | None = None) -> list[Path]:
     """A GIF of the best seed of each experiment (highest final evaluation return), where rendering works here.
 
-    An experiment with fewer complete runs than it has keeps a GIF already there (noted in `kept`).
+    A GIF drawn before from more complete runs than there are now is kept (noted in `kept`; drawn.py).
     """
-    from mjx_badger import analysis, plots, policy, results, robot
+    from mjx_badger import analysis, drawn, policy, results, robot
     from mjx_badger.experiments import EXPERIMENTS
 
     try:
@@ -122,10 +122,11 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names, protocol: st
     written = []
     for name in names:
         out = Path(figures_dir) / protocol / f"{name}_{profile}.gif"
-        done, needed = plots.complete_runs(EXPERIMENTS[name],
+        history = drawn.Drawn(out.parent, profile)
+        done, needed = drawn.complete_runs(EXPERIMENTS[name],
                                            analysis.load_experiment(EXPERIMENTS[name], Path(results_dir) / name))
-        if done < needed and plots.keep_existing([out], f"{done} of {needed} runs complete under "
-                                                        f"{Path(results_dir) / name}", kept):
+        if history.keeps([out], done, needed, f"{done} of {needed} runs complete under {Path(results_dir) / name}",
+                        kept):
             continue
         chosen = best(Path(results_dir) / name)
         if chosen is None:
@@ -139,5 +140,6 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names, protocol: st
             print(f"no video of {name}: {error}")
             continue
         record(env, actor, list(next(iter(env.task.eval_commands.values()))), seconds, out, size=(320, 240))
+        history.note([out], done)
         written.append(out)
     return written

@@ -171,7 +171,8 @@ def shape_problem(document: dict) -> str:
     for name, rows in document.get("metrics", {}).items():
         if not isinstance(rows, list) or len(rows) != len(steps):
             return f"metric {name} has not one row per chunk"
-        if not all(isinstance(row, list) and len(row) == len(seeds) and all(map(number, row)) for row in rows):
+        width = len(seeds) if "seeds" in document else None  # a sketch of a document (tests) may leave them out
+        if not all(isinstance(row, list) and len(row) == (width or len(row)) and all(map(number, row)) for row in rows):
             return f"metric {name} has not one number per seed in every row"
     for key, kind in (("complete", bool), ("policy", str), ("wall_clock", dict), ("gait", dict),
                       ("diverged_at_step", list)):

@@ -14,6 +14,7 @@ from mjx_badger.options import pairs
 from mjx_badger.protocols import Protocol
 
 AGENT_FIELDS = tuple(f.name for f in dataclasses.fields(AgentConfig) if f.name != "name")
+OPTIONAL_AGENT_FIELDS = tuple(f.name for f in dataclasses.fields(AgentConfig) if "None" in str(f.type))
 
 
 def protocol_words(field: str) -> tuple:
@@ -61,7 +62,8 @@ class RunSpec:
                 raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
         for field, value in self.protocol_changes:  # the kind of value each field holds, before it is set
             if field in protocols.FIELDS:
-                validation.like("protocol field", field, value, getattr(protocols.PROTOCOLS[self.protocol], field))
+                validation.like_any("protocol field", field, value,
+                                    [getattr(p, field) for p in protocols.PROTOCOLS.values()])
                 words = protocol_words(field)
                 if words and value not in words:
                     raise ValueError(f"protocol field {field} takes {', '.join(words)}, not {value!r}")
@@ -75,8 +77,10 @@ class RunSpec:
                              f"choose from {', '.join(AGENT_FIELDS)}")
         validation.params("approach parameter", self.approach_params)
         validation.params("task parameter", self.task_params)
-        agent = dataclasses.asdict(self.protocol_spec.agent_config(self.algo))
-        validation.params("algorithm parameter", self.algo_params, agent)
+        agent = self.protocol_spec.agent_config(self.algo)
+        for name, value in self.algo_params:  # None where the field may be None (target_entropy), else its kind
+            if not (value is None and name in OPTIONAL_AGENT_FIELDS):
+                validation.like("algorithm parameter", name, value, getattr(agent, name))
 
     @property
     def robot_spec(self) -> "robot.RobotSpec":

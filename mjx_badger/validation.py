@@ -18,8 +18,15 @@ class Refused(ValueError):
     """A run refused once it has looked at its own files (a damaged one, another run writing them): exit 2."""
 
 
+def traced(value) -> bool:
+    """A JAX value (a sweep builds its members' configs with their swept values as tracers, checked before as numbers)."""
+    return getattr(value, "aval", None) is not None
+
+
 def integer(name: str, value, low: int, high: int, why: str = "") -> int:
     """`value` if it is an integer in low..high, else ValueError naming `name` and the range."""
+    if traced(value):
+        return value
     if isinstance(value, bool) or not isinstance(value, Integral) or not low <= value <= high:
         because = f" ({why})" if why else ""
         raise ValueError(f"{name} must be an integer in {low}..{high}{because}, not {value!r}")
@@ -29,6 +36,8 @@ def integer(name: str, value, low: int, high: int, why: str = "") -> int:
 def number(name: str, value, low: float = -math.inf, high: float = math.inf, low_open: bool = False,
            why: str = "") -> float:
     """`value` if it is a finite number in [low, high] ((low, high] with `low_open`), else ValueError."""
+    if traced(value):
+        return value
     real = isinstance(value, Real) and not isinstance(value, bool)
     inside = real and math.isfinite(value) and (low < value if low_open else low <= value) and value <= high
     if not inside:
@@ -65,13 +74,22 @@ def like(what: str, name: str, value, default) -> None:
         number(field, value)
 
 
-def params(what: str, pairs: tuple, defaults: dict | None = None) -> None:
-    """Every NAME=VALUE of `pairs` of the kind its default has (`like`); without defaults, finite numbers."""
+def like_any(what: str, name: str, value, defaults: list) -> None:
+    """`like` for a field whose value differs between its owners (a protocol's None, the other's number):
+    the kind of any of `defaults` will do; the error is the first's."""
+    errors = []
+    for default in defaults:
+        try:
+            return like(what, name, value, default)
+        except ValueError as error:
+            errors.append(error)
+    raise errors[0]
+
+
+def params(what: str, pairs: tuple) -> None:
+    """Every NAME=VALUE of `pairs` a finite number."""
     for name, value in pairs:
-        if defaults is None or name not in defaults:
-            number(f"{what} {name}", value)
-        else:
-            like(what, name, value, defaults[name])
+        number(f"{what} {name}", value)
 
 
 def nearest_existing(path: Path) -> Path:

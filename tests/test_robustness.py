@@ -260,6 +260,14 @@ def test_figures_from_fewer_results_keep_the_figures_already_there(tmp_path, cap
     figure.unlink()
     assert main(["figures", "--results-dir", str(results_dir)]) == 0  # nothing to keep: drawn from what there is
     assert figure.stat().st_size > 10_000
+    figure.write_bytes(b"drawn from two")
+    shutil.copy(REFERENCE / "forward" / "jt-oef_crossq_forward.json", folder)
+    assert main(["figures", "--results-dir", str(results_dir)]) == 0  # a run that goes on redraws its own
+    assert figure.read_bytes() != b"drawn from two"
+    (folder / "jt-nf_crossq_forward.json").unlink()
+    capsys.readouterr()
+    assert main(["figures", "--results-dir", str(results_dir)]) == 0
+    assert f"kept {figure}: 2 of 6 runs complete" in capsys.readouterr().out
 
 
 def test_a_full_disk_while_drawing_keeps_the_figure_before(tmp_path, monkeypatch, capsys):
