@@ -11,7 +11,7 @@ TEST_WORKERS ?= 2
 # NO_MKDOCS_2_WARNING silences mkdocs-material's notice about its end of life, which is not a warning of the build.
 MKDOCS := NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir build/site
 
-.PHONY: install test test-slow docs reproduce-figures figures benchmark bench-peers clean
+.PHONY: install test test-slow docs reproduce-figures figures reference-figures benchmark bench-peers clean
 
 $(VENV)/.installed: pyproject.toml requirements.lock
 	$(PYTHON) -m venv $(VENV)
@@ -32,11 +32,17 @@ docs: install
 test-slow: install
 	$(PY) -m pytest -q -m slow -n $(TEST_WORKERS) --dist loadfile
 
+# A user's run: results, figures and scoreboard all under results/ (git-ignored; docs/robustness.md).
 reproduce-figures: install
 	$(PY) -m mjx_badger reproduce --profile $(PROFILE) --protocol $(PROTOCOL)
 
 figures: install
 	$(PY) -m mjx_badger figures --profile $(PROFILE) --protocol $(PROTOCOL)
+
+# Maintainers: the committed figures and scoreboard redrawn from the committed results (figures/data), by name.
+reference-figures: install
+	$(PY) -m mjx_badger figures --results-dir figures/data --figures-dir figures --profile $(PROFILE) --protocol $(PROTOCOL)
+	$(PY) -m mjx_badger claims --results-dir figures/data --profile $(PROFILE) --markdown figures/claims_$(PROFILE).md
 
 benchmark: install
 	$(PY) benchmarks/bench_spine.py

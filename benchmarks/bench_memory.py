@@ -1,14 +1,20 @@
-"""Memory per seed: the replay buffer and the whole carry (what a checkpoint stores) of every experiment's runs.
+"""Memory per seed: the replay buffer and the whole carry (what a checkpoint stores) of every experiment's runs,
+and the estimate the commands check before compiling (memory.py) against the measured peak of real runs.
 
-    python benchmarks/bench_memory.py  -> benchmarks/results/memory.json
+    python benchmarks/bench_memory.py          -> benchmarks/results/memory.json
+    python benchmarks/bench_memory.py --peaks  -> benchmarks/results/memory_peak.json (minutes: two real runs)
 
 Sizes come from the carry's shapes (`jax.eval_shape` of the run's init: nothing is compiled or
 allocated), for the quick and full profiles. A checkpoint stores the carry of every seed, so its
 size is at most seeds x carry bytes; the measured size of real checkpoints is printed beside.
 """
 
+import argparse
 import json
 import math
+import subprocess
+import sys
+import tempfile
 from pathlib import Path
 
 import jax
@@ -18,7 +24,19 @@ from mjx_badger.experiments import EXPERIMENTS, PROFILES
 from mjx_badger.train import make_train
 
 OUT = Path(__file__).parent / "results" / "memory.json"
+PEAKS = Path(__file__).parent / "results" / "memory_peak.json"
 MIB = 2**20
+# The runs measured: the suite's tiny run whole, and a thesis-length buffer (50k steps) for 16 seeds up to its
+# first checkpoint. Every buffer is allocated when the run starts, so the peak is reached by then: the compile,
+# the carry, one chunk (its output beside the donated input) and the checkpoint's host copy.
+MEASURED = (
+    {"what": "tiny run, whole", "seeds": 2, "chunks": None,
+     "config": {"approach": "jt-oef", "algo": "crossq", "task": "forward", "total_steps": 300, "chunk_steps": 100,
+                "warmup_steps": 100, "eval_steps": 20}},
+    {"what": "50k-step buffer x 16 seeds, to its first checkpoint", "seeds": 16, "chunks": 1,
+     "config": {"approach": "jt-oef", "algo": "crossq", "task": "forward", "total_steps": 50_000,
+                "chunk_steps": 1000, "warmup_steps": 1000}},
+)
 
 
 def nbytes(tree) -> int:
@@ -52,6 +70,49 @@ def measured_checkpoints(results_dir: Path) -> list[dict]:
     return found
 
 
+def child(spec: dict) -> dict:
+    """In a fresh process: the run of `spec` (whole, or up to its first checkpoint) and this process's peak memory."""
+    from mjx_badger import memory, results, runner
+    from mjx_badger.train import TrainConfig
+
+    config, seeds = TrainConfig(**spec["config"]), list(range(spec["seeds"]))
+    with tempfile.TemporaryDirectory() as folder:
+        out = Path(folder) / "run.json"
+        if spec["chunks"] is None:
+            runner.run(config, seeds, out, progress=False, tensorboard=False)
+        else:
+            carry, chunk, _ = runner.compiled(make_train(config), seeds)
+            for index in range(spec["chunks"]):
+                carry, _ = jax.block_until_ready(chunk(carry, index * config.chunk_steps))
+            checkpoints.Checkpoints(out, {"seeds": seeds}).save(spec["chunks"], carry)
+    return {"peak_mib": round(results.peak_memory_mib(), 1), "estimate_mib": round(memory.estimate(config, len(seeds)) / MIB, 1),
+            "carry_mib_per_seed": round(memory.carry_sizes(config)["carry_bytes"] / MIB, 2)}
+
+
+def peaks() -> None:
+    """Each run of MEASURED in its own process: estimate against measured peak, to benchmarks/results/memory_peak.json."""
+    from mjx_badger import memory
+
+    rows = []
+    for spec in MEASURED:
+        done = subprocess.run([sys.executable, __file__, "--child", json.dumps(spec)], capture_output=True, text=True)
+        if done.returncode:
+            raise SystemExit(done.stderr[-3000:])
+        found = json.loads(done.stdout.strip().splitlines()[-1])
+        rows.append({**spec, **found, "estimate_over_peak": round(found["estimate_mib"] / found["peak_mib"], 2)})
+        print(f"{spec['what']}: peak {found['peak_mib']:.0f} MiB, estimate {found['estimate_mib']:.0f} MiB "
+              f"(x{rows[-1]['estimate_over_peak']})", flush=True)
+    from mjx_badger import results
+
+    PEAKS.write_text(json.dumps({
+        "what": "peak resident memory of a process running each run (ru_maxrss) against memory.estimate, which "
+                "`train`, `sweep` and `reproduce` check before compiling: the carry's bytes x CARRY_COPIES + "
+                "OVERHEAD_BYTES", "carry_copies": memory.CARRY_COPIES, "overhead_mib": memory.OVERHEAD_BYTES / MIB,
+        "machine": results.hardware(), "git_commit": results.git_commit(), "date": results.now(), "runs": rows},
+        indent=1) + "\n")
+    print(f"wrote {PEAKS}")
+
+
 def main():
     rows = []
     for profile_name in ("quick", "full"):
@@ -78,4 +139,13 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--peaks", action="store_true", help="measure the peak memory of real runs (minutes)")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    options = parser.parse_args()
+    if options.child:
+        print(json.dumps(child(json.loads(options.child))))
+    elif options.peaks:
+        peaks()
+    else:
+        main()

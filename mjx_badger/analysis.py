@@ -162,6 +162,7 @@ def load_experiment(experiment: Experiment, folder: Path) -> dict:
     found = {}
     for run in experiment.runs:
         path = Path(folder) / result_name(run)
-        if path.exists():
-            found[experiment.label(run)] = results.read(path, leave_out_diverged=True)
+        document = results.read_or_skip(path, leave_out_diverged=True) if path.exists() else None
+        if document is not None:
+            found[experiment.label(run)] = document
     return found

@@ -185,7 +185,7 @@ def table(results_dir: Path) -> str:
             base_path = folder(results_dir, None, swap.base, swap.conditions) / swap.experiment / result_name(run)
             swapped_path = base_path if swap.counted_as else (
                 folder(results_dir, swap, swap.base) / swap.experiment / result_name(run))
-            if not swapped_path.exists() or not results.read(swapped_path)["complete"]:
+            if not swapped_path.exists() or not (results.read_or_skip(swapped_path) or {}).get("complete"):
                 continue  # not run yet, or still running
             swapped_measures = (swap.counted_as,) if swap.counted_as else swap.measures
             cells = ["; ".join(_words(_figure(path, swap, measure), measure) for measure in measures)

@@ -91,10 +91,13 @@ class Checkpoints:
                 warnings.warn(f"checkpoint {self.path / str(step)} cannot be read ({error}); trying an older one")
         return None
 
-    def remove(self) -> None:
+    def close(self) -> None:
         if self._manager is not None:
             self._manager.close()
             self._manager = None
+
+    def remove(self) -> None:
+        self.close()
         shutil.rmtree(self.path, ignore_errors=True)
 
 

@@ -330,3 +330,38 @@ def scoreboard_markdown(boards: dict, column: str = "{}: ours") -> str:
     totals = [f"{sum(v.holds is True for v in board)} of {len(board)}" for board in boards.values()]
     lines.append("| **claims that hold** | | " + " | ".join(totals) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _cells(line: str) -> list[str]:
+    return [cell.strip() for cell in line.strip().removeprefix("|").removesuffix("|").split(" | ")]
+
+
+def keep_decided(text: str, previous: str) -> tuple[str, list[str]]:
+    """The scoreboard `text` (scoreboard_markdown's) with each 'not run yet' cell that the `previous` one had
+    decided taken from it, and the totals recounted: fewer results never take a verdict away.
+    Returns (text, 'finding [column]' of every cell kept)."""
+    old_lines = previous.splitlines()
+    if not old_lines or not old_lines[0].startswith("| thesis finding"):
+        return text, []
+    old_columns = _cells(old_lines[0])
+    old_rows = {cells[0]: cells for cells in map(_cells, old_lines[2:]) if len(cells) == len(old_columns)}
+    lines = text.splitlines()
+    columns = _cells(lines[0])
+    kept, out = [], lines[:2]
+    for line in lines[2:]:
+        cells = _cells(line)
+        if not line.startswith("| ") or cells[0] == "**claims that hold**" or cells[0] not in old_rows:
+            out.append(line)
+            continue
+        for i, column in enumerate(columns[2:], start=2):
+            before = old_rows[cells[0]][old_columns.index(column)] if column in old_columns else None
+            if cells[i] == "not run yet" and before and before != "not run yet":
+                cells[i] = before
+                kept.append(f"{cells[0]} [{column}]")
+        out.append("| " + " | ".join(cells) + " |")
+    totals = [sum(_cells(line)[i].startswith("**holds**") for line in out[2:] if _cells(line)[0] != "**claims that hold**")
+              for i in range(2, len(columns))]
+    rows = sum(1 for line in out[2:] if line.startswith("| ") and _cells(line)[0] != "**claims that hold**")
+    out = [f"| **claims that hold** | | " + " | ".join(f"{n} of {rows}" for n in totals) + " |"
+           if line.startswith("| **claims that hold**") else line for line in out]
+    return "\n".join(out) + ("\n" if text.endswith("\n") else ""), kept

@@ -21,7 +21,7 @@ from typing import Annotated, Literal, Optional
 
 import tyro
 
-from mjx_badger import enable_compilation_cache
+from mjx_badger import enable_compilation_cache, safe_io
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.estimator_commands import Estimator
@@ -31,29 +31,21 @@ from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.robot import ROBOTS
 from mjx_badger.tasks import TASKS
 from mjx_badger.train import TrainConfig
+from mjx_badger.validation import INT32_MAX, integer, number, writable_dir, writable_file
 
 # Seed-steps (one env step and one update each) per second of CrossQ with JT on the 2-core
 # CPU this suite is developed on (benchmarks/bench_spine.py); only used to print an
 # estimate before a long run starts, counting updates as the cost.
 CPU_SEED_STEPS_PER_S = 174.0
 
+MAX_SEEDS = 1_000_000
+"""More seeds than any machine holds; the memory check refuses far fewer on most."""
 DESCRIPTION = "mjx_badger: the thesis's simulation experiments on MJX, their claims scored, and the on-robot loop."
 Profile = Literal[tuple(PROFILES)]
 ProtocolName = Literal[tuple(PROTOCOLS)]
 ExperimentName = Literal[tuple(EXPERIMENTS) + tuple(GROUPS)]
 Flat = tyro.conf.arg(name="")
 """A nested run spec whose fields are the command's own options (--approach, not --run.approach)."""
-
-
-def writable_dir(path: Path, what: str) -> None:
-    """Create `path` if needed and prove it is writable, or raise ValueError."""
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-        probe = path / f".write-test-{os.getpid()}"
-        probe.write_text("")
-        probe.unlink()
-    except OSError as error:
-        raise ValueError(f"{what} {str(path)!r} is not writable: {error.strerror or error}") from None
 
 
 def check_seed_devices(seeds: int) -> None:
@@ -80,8 +72,8 @@ class Cluster:
     distributed: bool = False
     """Join the cluster JAX detects by itself (Slurm, Open MPI, Cloud TPU)."""
 
-    def start(self) -> None:
-        """Join the cluster before JAX touches a device; ValueError for an incomplete address."""
+    def check(self) -> None:
+        """ValueError for an incomplete or malformed address; joins nothing."""
         if self.coordinator is None and not self.distributed:
             if self.num_processes is not None or self.process_id is not None:
                 raise ValueError("--num-processes and --process-id need --coordinator HOST:PORT")
@@ -89,8 +81,18 @@ class Cluster:
         if self.coordinator is not None:
             if self.num_processes is None or self.process_id is None:
                 raise ValueError("--coordinator needs --num-processes and --process-id")
+            host, _, port = self.coordinator.rpartition(":")
+            if not host or not port.isdigit() or not 0 < int(port) < 65536:
+                raise ValueError(f"--coordinator takes HOST:PORT with a port in 1..65535, not {self.coordinator!r}")
+            integer("--num-processes", self.num_processes, 1, 4096)
             if not 0 <= self.process_id < self.num_processes:
                 raise ValueError(f"--process-id must be in 0..{self.num_processes - 1}, not {self.process_id}")
+
+    def start(self) -> None:
+        """Join the cluster before JAX touches a device; ValueError for an incomplete address."""
+        self.check()
+        if self.coordinator is None and not self.distributed:
+            return
         from mjx_badger import cluster
 
         cluster.join(self.coordinator, self.num_processes, self.process_id)
@@ -112,6 +114,8 @@ class Runs:
     """Start over, though an interrupted run of this configuration left a checkpoint to resume from."""
     tensorboard: bool = True
     """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
+    dry_run: bool = False
+    """Check everything and print the plan with its memory estimate; train nothing."""
 
     @property
     def seed_list(self) -> list[int]:
@@ -120,6 +124,8 @@ class Runs:
     def check_runs(self) -> None:
         if self.seeds <= 0:
             raise ValueError(f"--seeds must be a positive number, not {self.seeds}")
+        integer("--seeds", self.seeds, 1, MAX_SEEDS)
+        integer("--first-seed", self.first_seed, 0, INT32_MAX - self.seeds + 1)
         writable_dir(self.out, "output folder")
 
 
@@ -130,14 +136,24 @@ class Train(Runs):
     cluster: Annotated[Cluster, Flat] = Cluster()
 
     def check(self) -> None:
+        from mjx_badger import memory
+
         self.check_runs()
-        self.cluster.start()
+        self.cluster.check()
+        if not self.dry_run:  # joined before JAX touches a device, which the estimate does
+            self.cluster.start()
         check_seed_devices(self.seeds)
+        memory.check(self.run, self.seeds)
 
     def __call__(self) -> int:
-        from mjx_badger import runner
+        from mjx_badger import memory, runner
 
         config = self.run
+        if self.dry_run:
+            print(f"would train {config.name} ({config.protocol} protocol, robot {config.robot}): {self.seeds} seeds x "
+                  f"{config.total_steps} steps in {config.num_chunks} chunks, into {self.out / (config.name + '.json')}")
+            print(memory.words(config, self.seeds))
+            return 0
         out = self.out / f"{config.name}.json"
         print(f"protocol {config.protocol}, robot {config.robot}"
               + "".join(f", {k}={v!r}" for k, v in config.protocol_changes))
@@ -167,14 +183,22 @@ class Sweep(Runs):
         return (sweep.read_grid(self.grid) if self.grid else ()) + tuple(sweep.parse_axis(v) for v in self.vary)
 
     def check(self) -> None:
-        from mjx_badger import sweep
+        from mjx_badger import memory, sweep
 
         self.check_runs()
-        sweep.check_groups(len(sweep.members(self.run, self.axes())), self.vmapped)
+        members = sweep.members(self.run, self.axes())
+        sweep.check_groups(len(members), self.vmapped)
+        memory.check(self.run, self.seeds, members=len(members))
 
     def __call__(self) -> int:
-        from mjx_badger import sweep
+        from mjx_badger import memory, sweep
 
+        if self.dry_run:
+            members = sweep.members(self.run, self.axes())
+            print(f"would sweep {len(members)} members of {self.run.name} x {self.seeds} seeds in groups of "
+                  f"{min(self.vmapped, len(members))}, into {self.out}")
+            print(memory.words(self.run, self.seeds, members=len(members)))
+            return 0
         try:
             documents = sweep.run(self.run, self.axes(), self.seed_list, self.out, self.vmapped, progress=not self.quiet,
                                   resume=not self.restart, tensorboard=self.tensorboard)
@@ -200,18 +224,34 @@ class Reproduce:
     """Experiments, or groups of them: 'simulation' (the five simulation experiments) or 'real' (the real-world
     ones under on-robot conditions, §5.2)."""
     results_dir: Path = Path("results")
-    figures_dir: Path = Path("figures")
+    figures_dir: Optional[Path] = None
+    """Where figures, tables and the scoreboard go (default: <results-dir>/figures; the committed ones: figures)."""
     force: bool = False
     """Rerun runs whose complete results exist, and start interrupted ones over instead of resuming them."""
     tensorboard: bool = True
     """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
     cluster: Annotated[Cluster, Flat] = Cluster()
 
+    @property
+    def figures(self) -> Path:
+        return self.figures_dir if self.figures_dir is not None else self.results_dir / "figures"
+
     def check(self) -> None:
-        self.cluster.start()
-        check_seed_devices(PROFILES[self.profile].seeds)
+        from mjx_badger import memory
+
+        if not self.experiments:
+            raise ValueError(f"--experiments needs at least one name; choose from {', '.join(EXPERIMENTS)}")
+        if len(set(self.experiments)) != len(self.experiments):
+            raise ValueError(f"--experiments names an experiment twice: {' '.join(self.experiments)}")
         writable_dir(self.results_dir, "results folder")
-        writable_dir(self.figures_dir, "figures folder")
+        writable_dir(self.figures, "figures folder")
+        self.cluster.start()  # before JAX touches a device, which the estimate does
+        seeds = PROFILES[self.profile].seeds
+        check_seed_devices(seeds)
+        for name in self.experiments:  # one run at a time: the largest decides
+            experiment = EXPERIMENTS[name]
+            for run in experiment.runs:
+                memory.check(experiment.train_config(run, self.profile, self.protocol), seeds)
 
     def __call__(self) -> int:
         return reproduce_command(self)
@@ -224,17 +264,25 @@ class Figures:
     profile: Profile = "quick"
     protocol: ProtocolName = "thesis-code"
     results_dir: Path = Path("results")
-    figures_dir: Path = Path("figures")
+    figures_dir: Optional[Path] = None
+    """Where they go (default: <results-dir>/figures; the committed ones: figures)."""
+
+    @property
+    def figures(self) -> Path:
+        return self.figures_dir if self.figures_dir is not None else self.results_dir / "figures"
 
     def check(self) -> None:
-        writable_dir(self.figures_dir, "figures folder")
+        writable_dir(self.figures, "figures folder")
 
     def __call__(self) -> int:
         from mjx_badger import plots
 
         folder = self.results_dir / self.profile / self.protocol
-        written = plots.draw(folder, self.figures_dir, self.profile, protocol=self.protocol)
-        if not written:
+        kept = []
+        written = plots.draw(folder, self.figures, self.profile, protocol=self.protocol, kept=kept)
+        for path, why in kept:
+            print(f"kept {path}: {why}")
+        if not written and not kept:
             print(f"no results under {folder}", file=sys.stderr)
             return 1
         for path in written:
@@ -261,6 +309,11 @@ class Claims:
     def check(self) -> None:
         if len(set(self.budgets)) != len(self.budgets):
             raise ValueError(f"--budgets names a profile twice: {' '.join(self.budgets)}")
+        for option, path in (("--json", self.json), ("--markdown", self.markdown)):
+            if path is not None:
+                writable_file(path, option)
+        if self.json is not None and self.markdown is not None and self.json.resolve() == self.markdown.resolve():
+            raise ValueError("--json and --markdown name the same file")
 
     def __call__(self) -> int:
         from mjx_badger import claims, real_world, results
@@ -280,9 +333,8 @@ class Claims:
         if self.markdown:
             write_scoreboard_markdown(self.markdown, boards, self.results_dir / self.profile)
         if self.json:
-            self.json.parent.mkdir(parents=True, exist_ok=True)
-            self.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
-                                            indent=1))
+            safe_io.write_text(self.json, json.dumps({name: [v.as_dict() for v in board]
+                                                      for name, board in boards.items()}, indent=1))
         return 0
 
 
@@ -296,14 +348,12 @@ class Claims:
             print(f"  wall time at {name}: {results.wall_time_words(self.results_dir / name / protocol)}")
         if self.markdown:
             times = "; ".join(f"{name}: {results.wall_time_words(self.results_dir / name / protocol)}" for name in boards)
-            self.markdown.parent.mkdir(parents=True, exist_ok=True)
-            self.markdown.write_text(f"Protocol: {protocol}\n\n" + claims.scoreboard_markdown(boards, "ours at {}")
-                                     + f"\nWall time on this machine: {times}.\n")
+            safe_io.write_text(self.markdown, f"Protocol: {protocol}\n\n" + claims.scoreboard_markdown(boards, "ours at {}")
+                               + f"\nWall time on this machine: {times}.\n")
             print(f"wrote {self.markdown}")
         if self.json:
-            self.json.parent.mkdir(parents=True, exist_ok=True)
-            self.json.write_text(json.dumps({name: [v.as_dict() for v in board] for name, board in boards.items()},
-                                            indent=1))
+            safe_io.write_text(self.json, json.dumps({name: [v.as_dict() for v in board]
+                                                      for name, board in boards.items()}, indent=1))
         return 0
 
 
@@ -314,13 +364,16 @@ class Publish:
     profile: Profile = "quick"
     protocol: ProtocolName = "thesis-code"
     results_dir: Path = Path("results")
-    to: Path = Path("figures/data")
-    """The reference folder (results land in <to>/<profile>/<protocol>/<experiment>/)."""
+    to: Optional[Path] = None
+    """The reference folder, named explicitly (results land in <to>/<profile>/<protocol>/<experiment>/; the
+    committed one is figures/data)."""
 
     def check(self) -> None:
         source = self.results_dir / self.profile / self.protocol
         if not source.is_dir():
             raise ValueError(f"no results folder {str(source)!r}")
+        if self.to is None:
+            raise ValueError("--to names the reference folder to publish into (the committed one: figures/data)")
         if (self.to / self.profile / self.protocol).resolve() == source.resolve():
             raise ValueError(f"--to {str(self.to)!r} is where the results already are; name another folder")
         writable_dir(self.to, "reference folder")
@@ -345,6 +398,8 @@ class Attribute:
     def check(self) -> None:
         from mjx_badger.attribution import SWAPS_BY_NAME
 
+        if self.only is not None and not self.only:
+            raise ValueError(f"--only needs at least one swap; choose from: {', '.join(SWAPS_BY_NAME)}")
         unknown = sorted(set(self.only or ()) - set(SWAPS_BY_NAME))
         if unknown:
             raise ValueError(f"unknown swap(s) {unknown}; choose from: {', '.join(SWAPS_BY_NAME)}")
@@ -356,7 +411,7 @@ class Attribute:
         swaps = tuple(swap for swap in attribution.SWAPS if self.only is None or swap.name in self.only)
         seeds = list(range(attribution.PROFILE.seeds))
         for swap, run, config, path in attribution.planned(self.results_dir, swaps):
-            if path.exists() and results.read(path).get("complete"):
+            if path.exists() and (results.read_or_skip(path) or {}).get("complete"):
                 print(f"skip {path}: complete")
                 continue
             runner.run(config, seeds, path, progress=_progress_bar())
@@ -381,9 +436,13 @@ class Realtime:
     """No live view."""
 
     def check(self) -> None:
+        from mjx_badger import memory
+
         if self.reset_seconds < 0:
             raise ValueError("--reset-seconds must not be negative")
+        number("--reset-seconds", self.reset_seconds, 0.0, 3600.0)
         writable_dir(self.out, "output folder")
+        memory.check_realtime(self.run)
 
     def __call__(self) -> int:
         from mjx_badger import plots
@@ -419,26 +478,36 @@ class SavedRun:
     command: Optional[str] = None
     """VX,VY,YAW (m/s, m/s, rad/s); default: the task's first evaluation command."""
     seconds: float = 20.0
+    max_seconds = 3600.0
+    """The longest run a command takes (a render keeps every frame in memory: less)."""
 
     def check(self) -> None:
         from mjx_badger import policy, results
 
-        if not self.results.exists():
+        number("--seconds", self.seconds, 0.0, self.max_seconds, low_open=True)
+        if self.seed is not None:
+            integer("--seed", self.seed, 0, INT32_MAX)
+        if not self.results.is_file():
             raise ValueError(f"no results file {str(self.results)!r}")
         document = results.read(self.results)
         if "policy" not in document:
             raise ValueError(f"{self.results} has no saved policy (complete runs since policies are saved have one)")
-        policy.load(self.results.parent / document["policy"], self.seed)  # the seed exists
+        saved = self.results.parent / document["policy"]
+        if not saved.is_file():
+            raise ValueError(f"{self.results}: its saved policy {str(saved)!r} is missing (a committed reference "
+                             "result keeps only its best seed's, where one was attached)")
+        policy.load(saved, self.seed)  # the seed exists, the file is whole
+        results.train_config(document)  # the run can be rebuilt
         if self.seed in results.diverged(document):
             raise ValueError(f"seed {self.seed} of {self.results.name} diverged at step "
                              f"{results.diverged(document)[self.seed]}; its policy is frozen from before, choose another")
         if self.command is not None:
             try:
-                [float(x) for x in self.command.split(",")][2]
-            except (ValueError, IndexError):
+                vx, vy, yaw = [float(x) for x in self.command.split(",")]
+            except ValueError:
                 raise ValueError(f"--command takes VX,VY,YAW, three numbers; got {self.command!r}") from None
-        if self.seconds <= 0:
-            raise ValueError(f"--seconds must be positive, not {self.seconds}")
+            for name, value in (("VX", vx), ("VY", vy), ("YAW", yaw)):
+                number(f"--command {name}", value, -10.0, 10.0)
 
     def load(self):
         """(env, actor, command) of the run: its env with one long episode, the seed's NumPy actor, the command."""
@@ -461,6 +530,11 @@ class Evaluate(SavedRun):
     json: Optional[Path] = None
     """Also write the report here."""
 
+    def check(self) -> None:
+        super().check()
+        if self.json is not None:
+            writable_file(self.json, "--json")
+
     def __call__(self) -> int:
         from mjx_badger import native
 
@@ -469,8 +543,7 @@ class Evaluate(SavedRun):
         report = dict(run(env, actor, command, self.seconds), engine=self.engine, seed=actor.seed)
         print(json.dumps(report, indent=1))
         if self.json:
-            self.json.parent.mkdir(parents=True, exist_ok=True)
-            self.json.write_text(json.dumps(report, indent=1))
+            safe_io.write_text(self.json, json.dumps(report, indent=1))
         return 0
 
 
@@ -479,6 +552,7 @@ class Render(SavedRun):
     """A GIF of a run's saved policy walking on native MuJoCo, rendered offscreen (EGL or OSMesa)."""
 
     seconds: float = 5.0
+    max_seconds = 60.0
     out: Path = Path("gait.gif")
     """The video file (.gif)."""
 
@@ -486,6 +560,7 @@ class Render(SavedRun):
         super().check()
         if self.out.suffix.lower() != ".gif":
             raise ValueError(f"--out {self.out.name}: videos are written as .gif (an .mp4 needs ffmpeg, not installed)")
+        writable_file(self.out, "--out")
         from mjx_badger import render, robot
 
         try:
@@ -570,7 +645,14 @@ def parse(argv=None):
 def main(argv=None) -> int:
     command = parse(argv)
     enable_compilation_cache()
-    return command()
+    return run_safely(command)
+
+
+def run_safely(command) -> int:
+    """Run a checked command; a refusal, a stop by signal or a failed write ends it in one line, not a traceback."""
+    from mjx_badger import faults
+
+    return faults.run(command)
 
 
 def overall_progress(index: int, runs: int, done: float, total: float, left_s: float | None) -> str:
@@ -582,7 +664,15 @@ def overall_progress(index: int, runs: int, done: float, total: float, left_s: f
 
 
 def reproduce_command(args) -> int:
-    from mjx_badger import claims, cluster, eta, plots, results, runner, tensorboard
+    """`reproduce`: SIGINT or SIGTERM stop it after the chunk at hand (or between runs), saved, to resume."""
+    from mjx_badger import stops
+
+    with stops.graceful():
+        return _reproduce(args)
+
+
+def _reproduce(args) -> int:
+    from mjx_badger import claims, cluster, eta, plots, results, runner, stops, tensorboard
 
     profile = PROFILES[args.profile]
     folder = args.results_dir / args.profile / args.protocol
@@ -610,6 +700,10 @@ def reproduce_command(args) -> int:
                          is not None) for i, config in enumerate(configs)]
     started, done = time.perf_counter(), []
     for index, ((experiment, run, path), config) in enumerate(zip(todo, configs)):
+        if stops.requested():
+            raise stops.Interrupted(stops.requested(), f"stopped by {stops.name(stops.requested())} before run "
+                                    f"{index + 1} of {len(todo)}; the runs done are saved: run the same command "
+                                    "again to go on")
         print(overall_progress(index, len(todo), sum(work[:index]), updates, eta.seconds_left(plans[index:], done)),
               flush=True)
         run_started = time.perf_counter()
@@ -632,17 +726,20 @@ def reproduce_command(args) -> int:
             done.append(eta.Done(plans[index], train_s, time.perf_counter() - run_started - train_s))
     if not cluster.writes():  # process 0 of a jax.distributed run draws and scores
         return 0
-    for path in plots.draw(folder, args.figures_dir, args.profile, names, args.protocol):
+    kept = []
+    for path in plots.draw(folder, args.figures, args.profile, names, args.protocol, kept=kept):
         print(f"wrote {path}")
     from mjx_badger import render
 
-    for path in render.draw(folder, args.figures_dir, args.profile, names, args.protocol):
+    for path in render.draw(folder, args.figures, args.profile, names, args.protocol, kept=kept):
         print(f"wrote {path} (the best seed's gait, native MuJoCo)")
+    for path, why in kept:
+        print(f"kept {path}: {why}")
     print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
     print()
     boards = {name: claims.score(args.results_dir / args.profile, name) for name in PROTOCOLS}
     print(claims.scoreboard_text(boards[args.protocol], args.profile, args.protocol))
-    write_scoreboard_markdown(args.figures_dir / f"claims_{args.profile}.md", boards, args.results_dir / args.profile)
+    write_scoreboard_markdown(args.figures / f"claims_{args.profile}.md", boards, args.results_dir / args.profile)
     return 0
 
 
@@ -673,7 +770,9 @@ def _same_run(folder: Path, config, seeds, pattern: str | None = None):
     wanted, defaults = as_stored(config), as_stored(TrainConfig())
     pattern = pattern or f"*/{config.approach}_{config.algo}_{config.task}.json"
     for path in sorted(folder.glob(pattern)):
-        document = results.read(path)
+        document = results.read_or_skip(path)
+        if document is None:
+            continue
         # A field added after a file was written counts as its default value.
         stored = {**{k: defaults[k] for k in wanted if k not in document["config"]}, **document["config"]}
         if document.get("complete") and stored == wanted and document["seeds"] == seeds:
@@ -686,8 +785,13 @@ def write_scoreboard_markdown(path: Path, boards: dict, profile_folder: Path) ->
     from mjx_badger import claims, results
 
     times = "; ".join(f"{name}: {results.wall_time_words(profile_folder / name)}" for name in boards)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(claims.scoreboard_markdown(boards) + f"\nWall time on this machine: {times}.\n")
+    text = claims.scoreboard_markdown(boards)
+    previous = path.read_text(errors="replace") if path.is_file() else ""
+    text, kept = claims.keep_decided(text, previous)
+    note = f" ({len(kept)} verdicts kept from the scoreboard there before: no results for them now)" if kept else ""
+    safe_io.write_text(path, text + f"\nWall time on this machine: {times}.{note}\n")
     print(f"wrote {path}")
+    for cell in kept:
+        print(f"kept {cell}: no results for it under {profile_folder}")
 
 

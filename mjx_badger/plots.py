@@ -9,7 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mjx_badger import real_world, results  # noqa: E402
+from mjx_badger import drawn, real_world, results, safe_io  # noqa: E402
 from mjx_badger.actions import APPROACHES  # noqa: E402
 from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_frequency, released_code,  # noqa: E402
                                  load_experiment, series, summarize)
@@ -57,9 +57,10 @@ def curve_panel(ax, documents: dict, metric: str, title: str, ylabel: str, x_axi
 
 
 def _save(fig, out: Path) -> Path:
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
+    try:
+        safe_io.save_figure(fig, out, dpi=110)
+    finally:
+        plt.close(fig)
     return out
 
 
@@ -334,41 +335,63 @@ def realtime_figure(document: dict, trace: np.ndarray, out: Path) -> Path:
     return _save(fig, out)
 
 
-def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protocol: str = "thesis-code") -> list[Path]:
+def experiment_files(experiment: Experiment, figures_dir: Path, profile: str) -> list[Path]:
+    """Every file `draw` writes for `experiment` into `figures_dir` (one protocol's)."""
+    name = experiment.name
+    paths = [figures_dir / f"{name}{'' if index == 0 else f'_vs_{experiment.baseline}' if kind == 'versus' else f'_{kind}'}"
+                           f"_{profile}.png" for index, kind in enumerate(experiment.figures)]
+    return paths + [figures_dir / f"{name}_{profile}.md", figures_dir / f"{name}_vs_released-code_{profile}.md"]
+
+
+def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protocol: str = "thesis-code",
+         kept: list | None = None) -> list[Path]:
     """Draw every figure and table whose results exist; returns the files written.
 
     `results_dir` holds one protocol's experiments; files go to figures_dir/<protocol>/ and every
-    title names the profile and the protocol.
+    title names the profile and the protocol. An experiment's files drawn before from more
+    complete runs than there are now are kept instead (each appended to `kept` with the reason;
+    drawn.py), so that a partial rerun never replaces a fuller figure.
     """
     written = []
     figures_dir = Path(figures_dir) / protocol
-    figures_dir.mkdir(parents=True, exist_ok=True)
     label = f"{profile} profile, {protocol} protocol"
     loaded = {name: load_experiment(EXPERIMENTS[name], Path(results_dir) / name) for name in EXPERIMENTS}
+    record = drawn.Drawn(figures_dir, profile)
     for name in names or EXPERIMENTS:
         experiment, documents = EXPERIMENTS[name], loaded[name]
         if not documents:
             continue
+        done, needed = drawn.complete_runs(experiment, documents)
+        if record.keeps(experiment_files(experiment, figures_dir, profile), done, needed,
+                        f"{done} of {needed} runs complete under {Path(results_dir) / name}", kept):
+            continue
+        before = len(written)
         for index, kind in enumerate(experiment.figures):
             suffix = "" if index == 0 else f"_vs_{experiment.baseline}" if kind == "versus" else f"_{kind}"
             path = FIGURES[kind](experiment, documents, figures_dir / f"{name}{suffix}_{profile}.png", label, loaded)
             written += [path] if path is not None else []
         table_path = figures_dir / f"{name}_{profile}.md"
         table = TABLES[experiment.table](experiment, documents, experiment.x_axis)
-        table_path.write_text(f"Protocol: {protocol}, profile: {profile}\n\n" + table)
+        safe_io.write_text(table_path, f"Protocol: {protocol}, profile: {profile}\n\n" + table)
         written.append(table_path)
         released = released_code(name) if protocol == "thesis-code" else None
         if released is not None:  # the released code's own spread, the check for thesis-code
             beside = figures_dir / f"{name}_vs_released-code_{profile}.md"
-            beside.write_text(f"Protocol: {protocol}, profile: {profile}. {released['what']}\n\n"
+            safe_io.write_text(beside, f"Protocol: {protocol}, profile: {profile}. {released['what']}\n\n"
                               + released_code_table(documents, released, profile))
             written.append(beside)
-    if any(loaded[name] for name in GROUPS["simulation"]):
-        written.append(overview_figure(loaded, figures_dir / f"overview_{profile}.png", label))
+        record.note(written[before:], done)
+    counts = [drawn.complete_runs(EXPERIMENTS[name], loaded[name]) for name in GROUPS["simulation"]]
+    done, needed = sum(c[0] for c in counts), sum(c[1] for c in counts)
+    overview = figures_dir / f"overview_{profile}.png"
+    if any(loaded[name] for name in GROUPS["simulation"]) and not record.keeps([overview], done, needed, f"{done} of {needed} runs complete "
+                                                                          f"under {results_dir}", kept):
+        written.append(overview_figure(loaded, overview, label))
+        record.note([overview], done)
     if loaded["forward-max"] and (loaded["real-office"] or loaded["real-outdoor"]):
         path = figures_dir / f"table_6_{profile}.md"
-        path.write_text(f"Protocol: {protocol}, profile: {profile}. Tables 6.1/6.2: forward velocity (m/s), simulation "
-                        "at maximal velocity, office and outdoor at the 0.25 m/s target.\n\n"
-                        + real_world.table_6(loaded["forward-max"], loaded["real-office"], loaded["real-outdoor"]))
+        safe_io.write_text(path, f"Protocol: {protocol}, profile: {profile}. Tables 6.1/6.2: forward velocity (m/s), "
+                           "simulation at maximal velocity, office and outdoor at the 0.25 m/s target.\n\n"
+                           + real_world.table_6(loaded["forward-max"], loaded["real-office"], loaded["real-outdoor"]))
         written.append(path)
     return written

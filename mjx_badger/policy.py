@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mjx_badger import safe_io
+
 FORMAT = "mjx_badger.policy/1"
 RENORM_EPSILON = 1e-3  # agents/networks.BatchRenorm's
 
@@ -56,10 +58,7 @@ def _write(path: Path, meta: dict, arrays: dict) -> Path:
     """Write atomically, so an interrupted save never leaves a half-written policy."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp.npz")
-    np.savez(tmp, meta=np.array(json.dumps(meta)), **arrays)
-    tmp.replace(path)
-    return path
+    return safe_io.save_npz(path, meta=np.array(json.dumps(meta)), **arrays)
 
 
 def keep_seeds(path: Path, out: Path, seeds: list[int]) -> Path:
@@ -78,18 +77,41 @@ class Policy:
     """One seed's saved actor: `policy(observation) -> action` in [-1, 1], NumPy only."""
 
     def __init__(self, path: Path, seed: int | None = None):
-        with np.load(path) as data:
-            self.meta = json.loads(str(data["meta"]))
-            if self.meta.get("format") != FORMAT:
-                raise ValueError(f"{path}: not a {FORMAT} file")
-            seeds = self.meta["seeds"]
-            seed = seeds[0] if seed is None else seed
-            if seed not in seeds:
-                raise ValueError(f"{path} holds seeds {seeds}, not {seed}")
-            index = seeds.index(seed)
-            self.arrays = {k: data[k][index] for k in data.files if k != "meta"}
+        try:
+            with np.load(path) as data:
+                self.meta = json.loads(str(data["meta"]))
+                if not isinstance(self.meta, dict) or self.meta.get("format") != FORMAT:
+                    raise ValueError(f"{path}: not a {FORMAT} file")
+                seeds = self.meta["seeds"]
+                seed = seeds[0] if seed is None else seed
+                if seed not in seeds:
+                    raise ValueError(f"{path} holds seeds {seeds}, not {seed}")
+                index = seeds.index(seed)
+                self.arrays = {k: data[k][index] for k in data.files if k != "meta"}
+            self.layers = self.meta["layers"]
+            self._check()
+        except ValueError:
+            raise
+        except Exception as error:  # cut short or edited: zip, pickle, JSON or shape errors, whichever came first
+            raise ValueError(f"{path}: damaged policy file ({type(error).__name__}: {error})") from None
         self.seed = seed
-        self.layers = self.meta["layers"]
+
+    def _check(self) -> None:
+        """Every layer's arrays are there, of sizes that chain from the observation to the action (ValueError)."""
+        width = self.observation_size
+        for layer in self.layers:
+            a = lambda name: self.arrays[f"{layer['name']}/{name}"]
+            if layer["op"] == "dense":
+                if a("kernel").shape[0] != width or a("bias").shape != a("kernel").shape[1:]:
+                    raise ValueError(f"layer {layer['name']} does not fit a width of {width}")
+                width = a("kernel").shape[1]
+            elif layer["op"] == "renorm":
+                if any(a(k).shape != (width,) for k in ("scale", "bias", "mean", "var")):
+                    raise ValueError(f"layer {layer['name']} does not fit a width of {width}")
+            elif layer["op"] != "relu":
+                raise ValueError(f"unknown layer {layer['op']!r}")
+            if not all(np.all(np.isfinite(v)) for k, v in self.arrays.items() if k.startswith(f"{layer.get('name')}/")):
+                raise ValueError(f"layer {layer.get('name')} holds a non-finite number")
 
     @property
     def observation_size(self) -> int:

@@ -23,12 +23,16 @@ def publish(source: Path, target: Path) -> list[tuple[Path, str]]:
     `target`, with its best seed's policy; returns (target file, what was done) per file found."""
     done = []
     for path in sorted(Path(source).glob("*/*.json")):
-        document = results.read(path)
+        document = results.read_or_skip(path)
         out = Path(target) / path.relative_to(source)
+        if document is None:
+            done.append((out, "skipped: cannot be read"))
+            continue
         if not document.get("complete"):
             done.append((out, "skipped: incomplete"))
             continue
-        if out.exists() and results.read(out).get("wall_clock", {}).get("started") == document["wall_clock"]["started"]:
+        before = results.read_or_skip(out) if out.exists() else None
+        if before is not None and (before.get("wall_clock") or {}).get("started") == document["wall_clock"]["started"]:
             done.append((out, "unchanged"))
             continue
         if "policy" not in document or not (path.parent / document["policy"]).exists():

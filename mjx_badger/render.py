@@ -6,6 +6,7 @@ physics the policy runs on is the run's own). MP4 needs an ffmpeg
 binary, which this suite does not install; a GIF needs only Pillow (matplotlib's).
 """
 
+import io
 import re
 from pathlib import Path
 from typing import Callable
@@ -13,7 +14,7 @@ from typing import Callable
 import mujoco
 import numpy as np
 
-from mjx_badger import native, robot, terrain
+from mjx_badger import native, robot, safe_io, terrain
 
 SCENERY = """<asset>
     <texture name="grid" type="2d" builtin="checker" rgb1="0.78 0.8 0.82" rgb2="0.62 0.65 0.68" width="256" height="256"/>
@@ -79,14 +80,14 @@ def record(env, act: Callable, command, seconds: float, out: Path, fps: float = 
     report = native.run_native(env, act, command, seconds, on_step=draw)
     from PIL import Image
 
-    out.parent.mkdir(parents=True, exist_ok=True)
     # One 64-colour palette for every frame: about half the size of per-frame palettes, and no flicker.
     palette = Image.fromarray(np.asarray(frames[len(frames) // 2])).quantize(colors=64)
     images = [Image.fromarray(np.asarray(picture)).quantize(palette=palette, dither=Image.Dither.NONE)
               for picture in frames]
-    images[0].save(out, save_all=True, append_images=images[1:], duration=int(round(1000 * every / env.control_hz)),
-                   optimize=True,
-                   loop=0)
+    gif = io.BytesIO()
+    images[0].save(gif, format="GIF", save_all=True, append_images=images[1:],
+                   duration=int(round(1000 * every / env.control_hz)), optimize=True, loop=0)
+    safe_io.write_bytes(out, gif.getvalue())
     return dict(report, frames=len(frames), video=str(out))
 
 
@@ -96,8 +97,8 @@ def best(folder: Path) -> tuple[Path, int, float] | None:
 
     found = None
     for path in sorted(Path(folder).glob("*.json")):
-        document = results.read(path, leave_out_diverged=True)
-        if not document.get("complete") or not document["seeds"] or "policy" not in document or not (path.parent / document["policy"]).exists():
+        document = results.read_or_skip(path, leave_out_diverged=True)
+        if document is None or not document.get("complete") or not document["seeds"] or "policy" not in document or not (path.parent / document["policy"]).exists():
             continue
         seed, value = analysis.best_seed(document)
         if found is None or value > found[2]:
@@ -105,9 +106,14 @@ def best(folder: Path) -> tuple[Path, int, float] | None:
     return found
 
 
-def draw(results_dir: Path, figures_dir: Path, profile: str, names, protocol: str, seconds: float = 4.0) -> list[Path]:
-    """A GIF of the best seed of each experiment (highest final evaluation return), where rendering works here."""
-    from mjx_badger import policy, results, robot
+def draw(results_dir: Path, figures_dir: Path, profile: str, names, protocol: str, seconds: float = 4.0,
+         kept: list | None = None) -> list[Path]:
+    """A GIF of the best seed of each experiment (highest final evaluation return), where rendering works here.
+
+    A GIF drawn before from more complete runs than there are now is kept (noted in `kept`; drawn.py).
+    """
+    from mjx_badger import analysis, drawn, policy, results, robot
+    from mjx_badger.experiments import EXPERIMENTS
 
     try:
         check_gl(robot.load_model())
@@ -116,14 +122,25 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names, protocol: st
         return []
     written = []
     for name in names:
+        out = Path(figures_dir) / protocol / f"{name}_{profile}.gif"
+        history = drawn.Drawn(out.parent, profile)
+        done, needed = drawn.complete_runs(EXPERIMENTS[name],
+                                           analysis.load_experiment(EXPERIMENTS[name], Path(results_dir) / name))
+        if history.keeps([out], done, needed, f"{done} of {needed} runs complete under {Path(results_dir) / name}",
+                        kept):
+            continue
         chosen = best(Path(results_dir) / name)
         if chosen is None:
             continue
         path, seed, _ = chosen
         document = results.read(path)
-        env = native.evaluation_env(results.train_config(document), seconds)
-        actor = policy.load(path.parent / document["policy"], seed)
-        out = Path(figures_dir) / protocol / f"{name}_{profile}.gif"
+        try:
+            env = native.evaluation_env(results.train_config(document), seconds)
+            actor = policy.load(path.parent / document["policy"], seed)
+        except ValueError as error:
+            print(f"no video of {name}: {error}")
+            continue
         record(env, actor, list(next(iter(env.task.eval_commands.values()))), seconds, out, size=(320, 240))
+        history.note([out], done)
         written.append(out)
     return written

@@ -43,8 +43,11 @@ import os
 import platform
 import resource
 import subprocess
+import sys
 from importlib import metadata
 from pathlib import Path
+
+from mjx_badger import safe_io
 
 SCHEMA = "mjx_badger.results/2"
 OLDER_SCHEMAS = ("mjx_badger.results/1",)
@@ -119,7 +122,10 @@ def train_config(document: dict):
     as_tuple = lambda v: tuple(as_tuple(x) for x in v) if isinstance(v, list) else v
     stored = document["config"]
     fields = {f.name for f in dataclasses.fields(TrainConfig)} - {"env", "agent"}
-    config = TrainConfig(**{k: as_tuple(v) for k, v in stored.items() if k in fields})
+    try:
+        config = TrainConfig(**{k: as_tuple(v) for k, v in stored.items() if k in fields})
+    except (TypeError, KeyError) as error:  # a hand-edited value of the wrong kind
+        raise ValueError(f"the results' configuration cannot be rebuilt: {error}") from None
     if json.loads(json.dumps(config_dict(config))) != {**json.loads(json.dumps(config_dict(config))), **stored}:
         raise ValueError("the results' env or agent settings differ from their protocol's; cannot rebuild the run")
     return config
@@ -138,19 +144,60 @@ def _clean(value):
 
 def write(path: Path, document: dict) -> None:
     """Write atomically, so an interrupted run never leaves a half-written file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text(json.dumps(_clean(document), indent=1))
-    os.replace(tmp, path)
+    safe_io.write_text(path, json.dumps(_clean(document), indent=1))
 
 
 def read(path: Path, leave_out_diverged: bool = False) -> dict:
-    """The results document at `path` in today's schema, its diverged seeds left out if asked (`healthy`)."""
-    document = json.loads(Path(path).read_text())
-    if document.get("schema") not in (SCHEMA, *OLDER_SCHEMAS):
+    """The results document at `path` in today's schema, its diverged seeds left out if asked (`healthy`).
+
+    ValueError naming the file for one that cannot be read, is cut short or was edited out of shape.
+    """
+    try:
+        document = json.loads(Path(path).read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise ValueError(f"{path} cannot be read: {getattr(error, 'strerror', None) or error}") from None
+    if not isinstance(document, dict) or document.get("schema") not in (SCHEMA, *OLDER_SCHEMAS):
         raise ValueError(f"{path}: not a {SCHEMA} results file")
+    problem = shape_problem(document)
+    if problem:
+        raise ValueError(f"{path}: damaged results file ({problem})")
     document = upgrade(document)
     return healthy(document) if leave_out_diverged else document
+
+
+def shape_problem(document: dict) -> str:
+    """'' or what in `document` is not where or what the schema says (a hand edit, a partial copy)."""
+    number = lambda v: v is None or (isinstance(v, (int, float)) and not isinstance(v, bool))
+    for key, kind in (("config", dict), ("seeds", list), ("steps", list), ("metrics", dict)):
+        if not isinstance(document.get(key, kind()), kind):
+            return f"{key} is not a {kind.__name__}"
+    seeds, steps = document.get("seeds", []), document.get("steps", [])
+    if not all(isinstance(s, int) and not isinstance(s, bool) for s in seeds) or len(set(seeds)) != len(seeds):
+        return "seeds are not distinct integers"
+    if not all(number(s) for s in steps):
+        return "steps are not numbers"
+    for name, rows in document.get("metrics", {}).items():
+        if not isinstance(rows, list) or len(rows) != len(steps):
+            return f"metric {name} has not one row per chunk"
+        width = len(seeds) if "seeds" in document else None  # a sketch of a document (tests) may leave them out
+        if not all(isinstance(row, list) and len(row) == (width or len(row)) and all(map(number, row)) for row in rows):
+            return f"metric {name} has not one number per seed in every row"
+    for key, kind in (("complete", bool), ("policy", str), ("wall_clock", dict), ("gait", dict),
+                      ("diverged_at_step", list)):
+        if document.get(key) is not None and not isinstance(document[key], kind):
+            return f"{key} is not a {kind.__name__}"
+    if document.get("diverged_at_step") is not None and len(document["diverged_at_step"]) != len(seeds):
+        return "diverged_at_step has not one entry per seed"
+    return ""
+
+
+def read_or_skip(path: Path, leave_out_diverged: bool = False) -> dict | None:
+    """The document at `path`, or None after a line on stderr naming the file and why it is skipped."""
+    try:
+        return read(path, leave_out_diverged)
+    except ValueError as error:
+        print(f"skipping {error}", file=sys.stderr)
+        return None
 
 
 def upgrade(document: dict) -> dict:
@@ -208,9 +255,9 @@ def left_out_words(document: dict) -> str:
 def wall_time(folder: Path) -> dict:
     """Compile and run seconds summed over the complete results files under `folder`."""
     # Not the run.json stamps inside a running or interrupted run's checkpoint folder.
-    documents = [read(path) for path in sorted(Path(folder).glob("**/*.json"))
+    documents = [read_or_skip(path) for path in sorted(Path(folder).glob("**/*.json"))
                  if not any(part.endswith((".ckpt", ".agents")) for part in path.parent.parts)]
-    clocks = [d.get("wall_clock", {}) for d in documents if d.get("complete")]
+    clocks = [d.get("wall_clock") or {} for d in documents if d is not None and d.get("complete")]
     return {"runs": len(clocks), "compile_s": sum(c.get("compile_s", 0.0) for c in clocks),
             "run_s": sum(c.get("run_s", 0.0) for c in clocks)}
 

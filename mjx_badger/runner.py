@@ -1,7 +1,9 @@
 """Host side of a training run: compile once, run chunk by chunk, show progress, write results."""
 
 import collections
+import contextlib
 import dataclasses
+import shutil
 import json
 import sys
 import time
@@ -14,10 +16,11 @@ import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from tqdm import tqdm
 
-from mjx_badger import checkpoints, policy, results
+from mjx_badger import checkpoints, locks, policy, results, stops
 from mjx_badger.cluster import agreed_max, gather, writes
 from mjx_badger import tensorboard as event_files
 from mjx_badger.train import TrainConfig, make_train
+from mjx_badger.validation import Refused
 
 
 def seeds_chunk(trainer, num_seeds: int):
@@ -170,15 +173,52 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     configuration and seeds that was interrupted continues from its last checkpoint, and
     ends with the numbers an uninterrupted run gives. The checkpoints go once the run is complete.
     With `tensorboard`, the metrics also go to event files beside the results (tensorboard.py).
+    While it runs it holds the lock of `out_path` (locks.py): a second run into the same file is
+    refused. SIGINT or SIGTERM stop it after the chunk at hand, saved (stops.py).
     """
-    started = results.now()
-    trainer = make_train(config)
-    carry, chunk, compile_s = compiled(trainer, seeds)
-    member = Member(config, list(seeds), out_path, trainer.env)
-    carry, (document,) = train_loop([member], carry, chunk, lambda carry, metrics: [(metrics, carry.diverged_at)],
-                                    out_path, started, compile_s, progress, resume, tensorboard)
-    gait = gather(_gait(trainer, len(seeds))(carry))
-    return finish(member, document, gait, carry.agent_state)
+    with writing(out_path), stops.graceful():
+        if resume:
+            check_resumable(out_path)
+        started = results.now()
+        trainer = make_train(config)
+        carry, chunk, compile_s = compiled(trainer, seeds)
+        member = Member(config, list(seeds), out_path, trainer.env)
+        carry, (document,) = train_loop([member], carry, chunk, lambda carry, metrics: [(metrics, carry.diverged_at)],
+                                        out_path, started, compile_s, progress, resume, tensorboard)
+        gait = gather(_gait(trainer, len(seeds))(carry))
+        document = finish(member, document, gait, carry.agent_state)
+        remove_checkpoints(out_path)
+        return document
+
+
+@contextlib.contextmanager
+def writing(out_path: Path):
+    """The lock of `out_path`, held by the process that writes it (process 0 of several, the others told if it
+    is refused, so that none waits for it)."""
+    with contextlib.ExitStack() as held:
+        refused = None
+        if writes():
+            try:
+                held.enter_context(locks.hold(out_path))
+            except Refused as error:
+                refused = error
+        if jax.process_count() > 1 and agreed_max(float(refused is not None))[0]:
+            refused = refused or Refused(f"{out_path} is being written by another run (process 0 found its lock)")
+        if refused is not None:
+            raise refused
+        yield
+
+
+def check_resumable(path: Path) -> None:
+    """Refused, before anything compiles, if a results file to resume from is there but cannot be read."""
+    if Path(path).exists():
+        _partial(path, None)
+
+
+def remove_checkpoints(checkpoint_path: Path) -> None:
+    """A complete run keeps no checkpoints: they go once its policy, agents and final results are written."""
+    if writes():
+        shutil.rmtree(checkpoints.folder(checkpoint_path), ignore_errors=True)
 
 
 def _gait(trainer, num_seeds: int) -> Callable:
@@ -230,49 +270,60 @@ def train_loop(members: list, carry, chunk, views, checkpoint_path: Path, starte
     run_s = documents[0]["wall_clock"].get("run_s", 0.0)
     save_s = documents[0]["wall_clock"].get("checkpoint_s", 0.0)
     every, since_saved = 1, 0
-    for index in range(first, config.num_chunks):
-        start = index * config.chunk_steps
-        t0 = time.perf_counter()
-        carry, metrics = chunk(carry, start)
-        metrics = gather(metrics)
-        chunk_s = time.perf_counter() - t0
-        run_s += chunk_s
-        steps = start + config.chunk_steps
-        complete = index == config.num_chunks - 1
-        for member, document, writer, (own, diverged_at) in zip(members, documents, events, views(carry, metrics)):
-            document["steps"].append(steps)
-            document["sim_minutes"].append(round(steps / member.env.control_hz / 60, 4))
-            for name, values in own.items():
-                document["metrics"].setdefault(name, []).append(np.asarray(values, dtype=float).round(5).tolist())
-            document["complete"] = complete
-            note_divergence(document, gather(diverged_at), member.out_path)
-            document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2),
-                                          checkpoint_s=round(save_s, 2),
-                                          seed_steps_per_s=round(steps * seeds / run_s, 1))
-            document["hardware"] = results.hardware()
-            if writes():  # before the checkpoint: the file never runs behind it
-                results.write(member.out_path, document)
-            if writer is not None:
-                t0 = time.perf_counter()
-                writer.write(own, steps)
-                document["wall_clock"]["tensorboard_s"] = round(document["wall_clock"].get("tensorboard_s", 0.0)
-                                                                + time.perf_counter() - t0, 3)
-        since_saved += 1
-        if not complete and since_saved >= every:
+    try:
+        for index in range(first, config.num_chunks):
+            start = index * config.chunk_steps
             t0 = time.perf_counter()
-            saved.save(index + 1, carry)
-            took = time.perf_counter() - t0
-            save_s += took
-            took, slowest_chunk_s = agreed_max(took, chunk_s)  # all processes checkpoint on the same chunks
-            every, since_saved = checkpoints.interval(took, slowest_chunk_s), 0
-        bar.update(config.chunk_steps)
-        bar.set_postfix(progress_figures(views(carry, metrics)[0][0]))
-    bar.close()
-    for writer in events:
-        if writer is not None:
-            writer.close()
-    if writes():
-        saved.remove()
+            carry, metrics = chunk(carry, start)
+            metrics = gather(metrics)
+            chunk_s = time.perf_counter() - t0
+            run_s += chunk_s
+            steps = start + config.chunk_steps
+            complete = index == config.num_chunks - 1
+            for member, document, writer, (own, diverged_at) in zip(members, documents, events, views(carry, metrics)):
+                document["steps"].append(steps)
+                document["sim_minutes"].append(round(steps / member.env.control_hz / 60, 4))
+                for name, values in own.items():
+                    document["metrics"].setdefault(name, []).append(np.asarray(values, dtype=float).round(5).tolist())
+                document["complete"] = False  # until `finish` has written the policy and agents too
+                note_divergence(document, gather(diverged_at), member.out_path)
+                document["wall_clock"].update(updated=results.now(), run_s=round(run_s, 2),
+                                              checkpoint_s=round(save_s, 2),
+                                              seed_steps_per_s=round(steps * seeds / run_s, 1))
+                document["hardware"] = results.hardware()
+                if writes():  # before the checkpoint: the file never runs behind it
+                    results.write(member.out_path, document)
+                if writer is not None:
+                    t0 = time.perf_counter()
+                    writer.write(own, steps)
+                    document["wall_clock"]["tensorboard_s"] = round(document["wall_clock"].get("tensorboard_s", 0.0)
+                                                                    + time.perf_counter() - t0, 3)
+            since_saved += 1
+            stop = stops.requested() is not None and not complete
+            if jax.process_count() > 1:  # every process stops at the same chunk
+                stop = bool(agreed_max(float(stop))[0])
+            if stop:
+                saved.save(index + 1, carry)
+                signum = stops.requested() or stops.SIGNALS[1]
+                raise stops.Interrupted(signum, f"stopped by {stops.name(signum)} at step {steps} of "
+                                        f"{config.num_chunks * config.chunk_steps}: results in {members[0].out_path}"
+                                        f"{' and its sweep members' if len(members) > 1 else ''}, checkpoint in "
+                                        f"{saved.path}; run the same command again to resume")
+            if not complete and since_saved >= every:
+                t0 = time.perf_counter()
+                saved.save(index + 1, carry)
+                took = time.perf_counter() - t0
+                save_s += took
+                took, slowest_chunk_s = agreed_max(took, chunk_s)  # all processes checkpoint on the same chunks
+                every, since_saved = checkpoints.interval(took, slowest_chunk_s), 0
+            bar.update(config.chunk_steps)
+            bar.set_postfix(progress_figures(views(carry, metrics)[0][0]))
+    finally:  # also when a write fails or a signal stops the run: files closed, the checkpoints' manager too
+        bar.close()
+        for writer in events:
+            if writer is not None:
+                writer.close()
+        saved.close()
     return carry, documents
 
 
@@ -284,6 +335,7 @@ def finish(member: Member, document: dict, gait: dict, agent_states) -> dict:
     actor = gather((agent_states.actor_params, agent_states.actor_stats))  # every process takes part
     if writes():
         save_policy(member, actor, document)
+        document["complete"] = True  # last: a run stopped before this point resumes from its checkpoint
         results.write(member.out_path, document)
     return document
 
@@ -304,8 +356,11 @@ def _partial(path: Path, fresh: dict) -> dict | None:
         return None
     try:
         previous = results.read(path)
-    except ValueError:
-        return None
+    except ValueError as error:
+        raise Refused(f"cannot resume: {error}; move it away, or start the run over (train, sweep: --restart; "
+                      "reproduce: --force)") from None
+    if fresh is None:
+        return previous
     same = previous["config"] == json.loads(json.dumps(fresh["config"])) and previous["seeds"] == fresh["seeds"]
     return previous if same and not previous.get("complete") else None
 

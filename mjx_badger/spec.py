@@ -8,13 +8,23 @@ registry and every parameter against what its owner takes, and names the valid c
 
 import dataclasses
 
-from mjx_badger import actions, protocols, robot, tasks
+from mjx_badger import actions, protocols, robot, tasks, validation
 from mjx_badger import conditions as on_robot
 from mjx_badger.agents import ALGORITHMS, AgentConfig
 from mjx_badger.options import pairs
 from mjx_badger.protocols import Protocol
 
 AGENT_FIELDS = tuple(f.name for f in dataclasses.fields(AgentConfig) if f.name != "name")
+OPTIONAL_AGENT_FIELDS = tuple(f.name for f in dataclasses.fields(AgentConfig) if "None" in str(f.type))
+
+
+def protocol_words(field: str) -> tuple:
+    """The words a protocol field of words takes: the protocols' own values (and the CPG's other residual modes)."""
+    values = [getattr(p, field) for p in protocols.PROTOCOLS.values()]
+    if not all(isinstance(v, str) for v in values):
+        return ()
+    extra = actions.RESIDUAL_MODES if field == "cpg_residual" else ()
+    return tuple(dict.fromkeys([*values, *extra]))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -56,6 +66,13 @@ class RunSpec:
                                    ("conditions", self.conditions, on_robot.CONDITIONS)):
             if value not in valid:
                 raise ValueError(f"unknown {what} {value!r}; choose from {', '.join(valid)}")
+        for field, value in self.protocol_changes:  # the kind of value each field holds, before it is set
+            if field in protocols.FIELDS:
+                validation.like_any("protocol field", field, value,
+                                    [getattr(p, field) for p in protocols.PROTOCOLS.values()])
+                words = protocol_words(field)
+                if words and value not in words:
+                    raise ValueError(f"protocol field {field} takes {', '.join(words)}, not {value!r}")
         self.protocol_spec  # unknown protocol fields raise here
         ground = self.conditions_spec.ground  # unknown or invalid condition fields raise here
         if ground.terrain != "flat":  # and parts MJX cannot collide with a height field here (a model, no compile)
@@ -67,6 +84,12 @@ class RunSpec:
         if unknown:
             raise ValueError(f"algorithm parameters {', '.join(unknown)} are not AgentConfig fields; "
                              f"choose from {', '.join(AGENT_FIELDS)}")
+        validation.params("approach parameter", self.approach_params)
+        validation.params("task parameter", self.task_params)
+        agent = self.protocol_spec.agent_config(self.algo)
+        for name, value in self.algo_params:  # None where the field may be None (target_entropy), else its kind
+            if not (value is None and name in OPTIONAL_AGENT_FIELDS):
+                validation.like("algorithm parameter", name, value, getattr(agent, name))
 
     @property
     def robot_spec(self) -> "robot.RobotSpec":

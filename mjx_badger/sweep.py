@@ -16,6 +16,7 @@ is fixed when the program is built (a loop length, a branch, a filter design) an
 """
 
 import ast
+import contextlib
 import dataclasses
 import itertools
 import json
@@ -26,7 +27,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mjx_badger import results, runner
+from mjx_badger import results, runner, stops
 from mjx_badger.train import TrainConfig, make_train
 
 GROUPS = ("approach_params", "algo_params", "task_params")
@@ -194,14 +195,26 @@ class Sweep:
 def run(base: TrainConfig, axes: tuple, seeds: list[int], out_dir: Path, vmapped: int = 1, progress: bool = True,
         resume: bool = True, tensorboard: bool = True) -> list[dict]:
     """Train every member of the grid in one program; one results file per member in `out_dir`."""
-    started = results.now()
     sweep = Sweep(base, axes, seeds, vmapped)
+    checkpoint_path = Path(out_dir) / f"sweep_{base.name}.json"
+    with contextlib.ExitStack() as held:
+        for path in [checkpoint_path] + [Path(out_dir) / f"{sweep.name(config)}.json" for config in sweep.configs]:
+            held.enter_context(runner.writing(path))  # one sweep at a time into these files
+        held.enter_context(stops.graceful())
+        if resume:
+            for config in sweep.configs:
+                runner.check_resumable(Path(out_dir) / f"{sweep.name(config)}.json")
+        return _run(sweep, checkpoint_path, seeds, out_dir, progress, resume, tensorboard)
+
+
+def _run(sweep: Sweep, checkpoint_path: Path, seeds: list[int], out_dir: Path, progress: bool, resume: bool,
+         tensorboard: bool) -> list[dict]:
+    started = results.now()
     carry, chunk, compile_s = sweep.compiled()
     members = [runner.Member(config, list(seeds), Path(out_dir) / f"{sweep.name(config)}.json",
                              make_train(config).env) for config in sweep.configs]
     views = lambda carry, metrics: [(jax.tree.map(lambda x: x[m], metrics), carry[1].diverged_at[m])
                                     for m in range(len(members))]
-    checkpoint_path = Path(out_dir) / f"sweep_{base.name}.json"
     carry, documents = runner.train_loop(members, carry, chunk, views, checkpoint_path, started, compile_s,
                                          progress, resume, tensorboard)
     gait = sweep.gait(carry)
@@ -211,4 +224,5 @@ def run(base: TrainConfig, axes: tuple, seeds: list[int], out_dir: Path, vmapped
                              "members": len(members), "vmapped": sweep.vmapped}
         runner.finish(member, document, jax.tree.map(lambda x: x[m], gait),
                       jax.tree.map(lambda x: np.asarray(x[m]), carry[1].agent_state))
+    runner.remove_checkpoints(checkpoint_path)
     return documents

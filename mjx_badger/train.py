@@ -15,11 +15,16 @@ import jax.numpy as jnp
 import tyro
 from flax import struct
 
-from mjx_badger import actions, evaluation, replay, tasks
+from mjx_badger import actions, evaluation, replay, tasks, validation
 from mjx_badger.agents import AgentConfig, AgentState, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
 from mjx_badger.spec import RunSpec
+
+
+MAX_EVAL_STEPS = 100_000
+"""Steps of each evaluation run (the thesis's: 400); longer ones only make every chunk slower."""
+MAX_GAIT_SECONDS = 60.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -53,6 +58,17 @@ class TrainConfig(RunSpec):
             raise ValueError(f"chunk_steps ({self.chunk_steps}) must not exceed total_steps ({self.total_steps})")
         if self.warmup_steps >= self.total_steps:
             raise ValueError(f"warm-up ({self.warmup_steps} steps) must be shorter than the run ({self.total_steps})")
+        # The step counter, the replay index and the agent's update index (steps x updates per step) are int32.
+        utd = self.agent_config.updates_per_step
+        limit = validation.INT32_MAX // utd
+        validation.integer("total_steps", self.total_steps, 1, limit,
+                           f"int32 step counters at {utd} update{'s' if utd > 1 else ''} per step")
+        if self.num_chunks * self.chunk_steps > limit:
+            raise ValueError(f"chunk_steps ({self.chunk_steps}) rounds the run up to {self.num_chunks * self.chunk_steps}"
+                             f" steps, past the int32 step counters' {limit}: choose one that divides total_steps")
+        validation.integer("eval_steps", self.eval_steps, 1, MAX_EVAL_STEPS)
+        validation.number("gait_seconds", self.gait_seconds, 0.0, MAX_GAIT_SECONDS, low_open=True,
+                          why="the gait record is kept at the physics rate in the results file")
 
     @property
     def agent_config(self) -> AgentConfig:

@@ -118,8 +118,8 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
         return {"wall_clock": {"run_s": 0.0}}
 
     monkeypatch.setattr("mjx_badger.runner.run", fake_run)
-    monkeypatch.setattr("mjx_badger.plots.draw", lambda *args: [])
-    monkeypatch.setattr("mjx_badger.render.draw", lambda *args: [])
+    monkeypatch.setattr("mjx_badger.plots.draw", lambda *args, **kwargs: [])
+    monkeypatch.setattr("mjx_badger.render.draw", lambda *args, **kwargs: [])
     monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])
     folder = tmp_path / "smoke" / "thesis-code" / "forward"
     for index, run in enumerate(experiment.runs):

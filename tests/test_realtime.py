@@ -185,22 +185,23 @@ def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path,
 
 
 class Interrupting(SimulatedHB40):
-    """The simulated HB40, and an operator who presses Ctrl-C at the `at`-th sensor read."""
+    """The simulated HB40, and an operator who presses Ctrl-C (or a system that sends SIGTERM) at the `at`-th read."""
 
-    def __init__(self, at, **kwargs):
+    def __init__(self, at, signum=signal.SIGINT, **kwargs):
         super().__init__(**kwargs)
-        self.at, self.reads = at, 0
+        self.at, self.reads, self.signum = at, 0, signum
 
     def read(self):
         self.reads += 1
         if self.reads == self.at:
-            os.kill(os.getpid(), signal.SIGINT)
+            os.kill(os.getpid(), self.signum)
         return super().read()
 
 
-def test_stop_and_resume_keep_the_replay_buffer_and_step_count(tmp_path):
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_stop_and_resume_keep_the_replay_buffer_and_step_count(tmp_path, signum):
     config = dataclasses.replace(TINY, steps=60, eval_seconds=0.0)
-    bot = Interrupting(at=30, reset_seconds=0.1)
+    bot = Interrupting(at=30, signum=signum, reset_seconds=0.1)
     stopped = run(config, bot, tmp_path, view=False)
     assert not stopped["complete"] and 0 < stopped["steps"] < config.steps
     assert bot.damp_calls >= 1
@@ -220,6 +221,12 @@ def test_stop_and_resume_keep_the_replay_buffer_and_step_count(tmp_path):
     assert again["wall_clock"] == resumed["wall_clock"] and again["steps"] == config.steps
     with pytest.raises(ValueError, match="other settings"):
         run(dataclasses.replace(config, seed=1), SimulatedHB40(), tmp_path, view=False)
+    # A checkpoint cut short is named and refused, before anything compiles; the run's lock is given back.
+    replay = checkpoint / "replay.npz"
+    replay.write_bytes(replay.read_bytes()[:1000])
+    with pytest.raises(ValueError, match=f"{checkpoint} is damaged.*--restart"):
+        run(config, SimulatedHB40(), tmp_path, view=False)
+    assert not (tmp_path / f"{config.name}.json.lock").exists()
 
 
 def test_bad_settings_are_refused_before_anything_compiles():

@@ -82,6 +82,54 @@ def test_two_processes_through_jax_distributed_give_the_numbers_of_one_device(tm
     assert (out / f"{TINY_TRAIN.name}.policy.npz").exists() and (out / f"{TINY_TRAIN.name}.agents").is_dir()
 
 
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("localhost", 0))
+        return probe.getsockname()[1]
+
+
+@pytest.mark.slow  # two processes compile twice, killed and resumed: minutes (`make test-slow`)
+def test_two_processes_killed_mid_way_resume_to_the_numbers_of_one_device(tmp_path, alone):
+    """SIGKILL both processes of a jax.distributed run once a chunk is checkpointed; the same two commands again
+    resume from that checkpoint (each process its own shards) and end with the uninterrupted numbers."""
+    import json
+    import signal
+
+    from mjx_badger import checkpoints
+
+    out = tmp_path / "cluster"
+    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
+    result, ckpt = out / f"{TINY_TRAIN.name}.json", checkpoints.folder(out / f"{TINY_TRAIN.name}.json")
+
+    def start(port):
+        cluster = ["--coordinator", f"localhost:{port}", "--num-processes", "2", "--process-id"]
+        return [subprocess.Popen(_command(out, 2) + cluster + [str(i)], env=env, stdout=subprocess.PIPE,
+                                 stderr=subprocess.PIPE, text=True) for i in (0, 1)]
+
+    processes = start(_free_port())
+    deadline = time.time() + 900
+    while time.time() < deadline and all(p.poll() is None for p in processes):
+        try:
+            done = json.loads(result.read_text())["steps"]
+        except (FileNotFoundError, json.JSONDecodeError):
+            done = []
+        if done and (ckpt / "1").is_dir():
+            break
+        time.sleep(0.05)
+    assert all(p.poll() is None for p in processes), "the run ended before it could be killed mid-way"
+    for process in processes:
+        process.send_signal(signal.SIGKILL)
+        process.communicate()
+    assert not json.loads(result.read_text())["complete"]
+
+    processes = start(_free_port())
+    outputs = [process.communicate(timeout=900) for process in processes]
+    for process, (_, stderr) in zip(processes, outputs):
+        assert process.returncode == 0, stderr[-2000:]
+    assert "resuming" in outputs[0][1]
+    assert_same_numbers(results.read(result), [document for document, _ in alone])
+
+
 def test_seeds_that_do_not_split_over_the_devices_are_refused_before_anything_compiles(tmp_path):
     done = _train(tmp_path, 3, TWO_CPU_DEVICES)
     assert done.returncode == 2

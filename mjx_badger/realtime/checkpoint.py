@@ -6,6 +6,8 @@ from pathlib import Path
 import flax.serialization
 import numpy as np
 
+from mjx_badger import safe_io
+
 COUNTERS = ("step", "falls", "episodes", "train_seconds", "reset_seconds", "rows")
 """The run's progress counters the checkpoint keeps (progress.json, beside the settings and updates)."""
 
@@ -16,7 +18,7 @@ def path(out_dir: Path, config) -> Path:
 
 
 def exists(checkpoint: Path) -> bool:
-    return (checkpoint / "state.msgpack").exists()
+    return (safe_io.newest_folder(checkpoint) / "progress.json").exists()
 
 
 def settings(config) -> dict:
@@ -25,27 +27,44 @@ def settings(config) -> dict:
 
 
 def save(checkpoint: Path, config, agent_state, task_state, key, updates, buffer, progress) -> None:
-    """Policy, optimiser state, replay buffer and counters, so a later run resumes."""
-    checkpoint.mkdir(parents=True, exist_ok=True)
+    """Policy, optimiser state, replay buffer and counters, so a later run resumes; the folder is replaced whole
+    (safe_io.replace_folder), so a failed save leaves the one before."""
     state = {"agent": agent_state, "task_state": task_state, "key": key}
-    (checkpoint / "state.msgpack").write_bytes(flax.serialization.to_bytes(state))
-    buffer.save(checkpoint / "replay.npz")
-    np.save(checkpoint / "trace.npy", progress.trace[:progress.step])
     counters = {"settings": settings(config), "updates": updates, **{name: getattr(progress, name) for name in COUNTERS}}
-    (checkpoint / "progress.json").write_text(json.dumps(counters))
+
+    def fill(folder: Path) -> None:
+        safe_io.write_bytes(folder / "state.msgpack", flax.serialization.to_bytes(state))
+        buffer.save(folder / "replay.npz")
+        safe_io.save_npy(folder / "trace.npy", progress.trace[:progress.step])
+        safe_io.write_text(folder / "progress.json", json.dumps(counters))
+
+    safe_io.replace_folder(checkpoint, fill)
 
 
 def load(checkpoint: Path, config, agent_state, task_state, key, buffer, progress):
-    """Restore the buffer and `progress` in place; returns the agent state, task state, key and update count."""
-    counters = json.loads((checkpoint / "progress.json").read_text())
-    if counters.get("settings") != settings(config):
+    """Restore the buffer and `progress` in place; returns the agent state, task state, key and update count.
+
+    ValueError naming the checkpoint if it holds another run's settings or cannot be read.
+    """
+    checkpoint = safe_io.newest_folder(checkpoint)
+    try:
+        counters = json.loads((checkpoint / "progress.json").read_text())
+        same = isinstance(counters, dict) and counters.get("settings") == settings(config)
+    except (OSError, ValueError) as error:
+        raise ValueError(f"{checkpoint} cannot be read ({error}); start over with --restart") from None
+    if not same:
         raise ValueError(f"{checkpoint} holds a run with other settings; start over with --restart "
                          "or pick another --out folder")
-    template = {"agent": agent_state, "task_state": task_state, "key": key}
-    state = flax.serialization.from_bytes(template, (checkpoint / "state.msgpack").read_bytes())
-    buffer.load(checkpoint / "replay.npz")
-    for name in COUNTERS:
-        setattr(progress, name, counters[name])
-    done = np.load(checkpoint / "trace.npy")
+    try:
+        template = {"agent": agent_state, "task_state": task_state, "key": key}
+        state = flax.serialization.from_bytes(template, (checkpoint / "state.msgpack").read_bytes())
+        done = np.load(checkpoint / "trace.npy")
+        if done.ndim != 2 or done.shape[1] != progress.trace.shape[1] or len(done) != counters["step"]:
+            raise ValueError(f"trace.npy holds {done.shape}, not {counters['step']} steps")
+        buffer.load(checkpoint / "replay.npz")
+        for name in COUNTERS:
+            setattr(progress, name, counters[name])
+    except Exception as error:  # cut short or edited: msgpack, zip, shape or key errors, whichever came first
+        raise ValueError(f"{checkpoint} is damaged ({type(error).__name__}: {error}); start over with --restart") from None
     progress.trace[:len(done)] = done
     return state["agent"], state["task_state"], state["key"], counters["updates"]

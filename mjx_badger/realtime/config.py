@@ -4,10 +4,16 @@ import dataclasses
 
 import tyro
 
-from mjx_badger import tasks
+from mjx_badger import tasks, validation
 from mjx_badger.actions import is_cpg
 from mjx_badger.agents import AgentConfig
 from mjx_badger.spec import RunSpec
+
+
+MAX_SPEED = 5.0
+"""m/s: ten times the thesis's commands, beyond any the HB40 can walk."""
+MAX_SECONDS = 3600.0
+"""An episode or evaluation of at most an hour."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -76,6 +82,14 @@ class RealtimeConfig(RunSpec):
             raise ValueError(f"control rate {self.hz} Hz must lie in [1, {physics_hz}] Hz")
         if self.steps < 1 or self.warmup_steps < 0:
             raise ValueError("steps must be positive and warm-up steps not negative")
+        validation.integer("steps", self.steps, 1, validation.INT32_MAX)
+        validation.number("target_velocity", self.target_velocity, -MAX_SPEED, MAX_SPEED)
+        validation.number("episode_seconds", self.episode_seconds, 0.0, MAX_SECONDS, low_open=True)
+        validation.number("eval_seconds", self.eval_seconds, 0.0, MAX_SECONDS)
+        if self.updates_per_step is not None:
+            validation.number("updates_per_step", self.updates_per_step, 0.0, 1000.0, low_open=True)
+        for name in ("seed", "init_seed"):
+            validation.integer(name, getattr(self, name), 0, validation.INT32_MAX)
         if self.warmup_steps >= self.steps:
             raise ValueError(f"warmup_steps ({self.warmup_steps}) must be smaller than steps ({self.steps})")
         if self.init_from is not None:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import jax
 
-from mjx_badger import results
+from mjx_badger import locks, results
 from mjx_badger.realtime import checkpoint, control, pretrained, report, scheduling
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.control import Progress, build
@@ -30,10 +30,16 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     """Train on `bot` for `config.steps` control steps (or until Ctrl-C); returns the results document.
 
     The learner updates the agent concurrently, at most `config.utd` times per learning step.
-    Ctrl-C damps the robot, then saves policy, optimiser state and replay buffer; the next run with
-    the same settings resumes from them. `lock_memory=False` leaves the pages to the kernel (to
-    measure what locking them buys).
+    Ctrl-C or SIGTERM damps the robot, then saves policy, optimiser state and replay buffer; the next
+    run with the same settings resumes from them. `lock_memory=False` leaves the pages to the kernel
+    (to measure what locking them buys). A second run into the same results file is refused (locks.py).
     """
+    with locks.hold(report.document_path(out_dir, config), "this on-robot run"):
+        return _run(config, bot, out_dir, resume, view, kalman, lock_memory)
+
+
+def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: bool, kalman: KalmanConfig,
+         lock_memory: bool) -> dict:
     env, task, agent, tick, evaluate_tick, update = build(config)
     out_dir = Path(out_dir)
     saved = checkpoint.path(out_dir, config)
@@ -68,7 +74,8 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     started = results.now()
     with scheduling.control_thread(lock_memory) as (realtime, locked):
         timing = report.timing_log(realtime, locked, scheduling.major_page_faults())
-        previous_handler = signal.signal(signal.SIGINT, lambda *_: stop.set()) if _main_thread() else None
+        previous_handlers = {signum: signal.signal(signum, lambda *_: stop.set())
+                             for signum in (signal.SIGINT, signal.SIGTERM)} if _main_thread() else {}
         bot.start()
         learner.start()
         scheduling.nice_compute_threads()
@@ -86,8 +93,8 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
             learner.stop()
             timing["major_page_faults"] = scheduling.major_page_faults() - timing["major_page_faults"]
             gc.unfreeze()
-            if previous_handler is not None:
-                signal.signal(signal.SIGINT, previous_handler)
+            for signum, handler in previous_handlers.items():
+                signal.signal(signum, handler)
             session.view.close()
         try:
             complete = progress.step >= config.steps

@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mjx_badger import safe_io
 from mjx_badger.agents.losses import Transition
 
 
@@ -35,7 +36,7 @@ class HostReplay:
 
     def save(self, path: Path) -> None:
         with self._lock:
-            np.savez(path, obs=self.obs, action=self.action, reward=self.reward, next_obs=self.next_obs,
+            safe_io.save_npz(path, obs=self.obs, action=self.action, reward=self.reward, next_obs=self.next_obs,
                      discount=self.discount, size=self.size)
 
     def load(self, path: Path) -> None:

@@ -51,7 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mjx_badger import results
+from mjx_badger import results, safe_io
 
 SCHEMA = "mjx_badger.realtime/1"
 LOG_EVERY_STEPS = 200
@@ -160,7 +160,7 @@ def trace_path(out_dir: Path, config) -> Path:
 def save(out_dir: Path, config, document: dict, progress) -> None:
     """The results document and the trace of the steps taken so far."""
     results.write(document_path(out_dir, config), document)
-    np.save(trace_path(out_dir, config), progress.trace[:progress.step].astype(np.float32))
+    safe_io.save_npy(trace_path(out_dir, config), progress.trace[:progress.step].astype(np.float32))
 
 
 def load_trace(out_dir: Path, config) -> np.ndarray:

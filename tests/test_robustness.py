@@ -1,0 +1,334 @@
+"""Nothing lost, nothing crashes (issue 35): bad input refused in one line before anything runs, references never
+clobbered, damaged files named, one writer per output, memory checked before compiling. Nothing here compiles."""
+
+import errno
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import conftest
+from mjx_badger import claims, locks, memory, safe_io, stops
+from mjx_badger.cli import main
+
+REPO = Path(__file__).resolve().parent.parent
+REFERENCE = REPO / "figures" / "data" / "quick" / "thesis-code"
+TINY = ["train", "--approach", "jt-oef", "--task", "forward", "--steps", "300", "--chunk-steps", "100",
+        "--warmup-steps", "100", "--eval-steps", "20", "--seeds", "2", "--quiet", "--no-tensorboard"]
+
+
+def _refused(capsys, argv, *says) -> str:
+    """`argv` exits 2 with one line on stderr holding every one of `says`."""
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and err.count("\n") == 1, err
+    for words in says:
+        assert words in err, err
+    return err
+
+
+def _tree(folder: Path) -> dict:
+    return {str(p.relative_to(folder)): p.stat().st_mtime_ns for p in folder.rglob("*")}
+
+
+# The three defects of the issue.
+
+def test_reproduce_with_an_empty_experiment_list_is_refused_and_writes_nothing(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    scoreboard = (REPO / "figures" / "claims_quick.md").read_bytes()
+    _refused(capsys, ["reproduce", "--profile", "quick", "--experiments"], "--experiments needs at least one name",
+             "forward")
+    _refused(capsys, ["reproduce", "--experiments", "forward", "forward"], "names an experiment twice")
+    assert _tree(tmp_path) == {} and (REPO / "figures" / "claims_quick.md").read_bytes() == scoreboard
+
+
+def test_train_with_more_steps_than_the_step_counters_hold_is_refused(capsys):
+    _refused(capsys, ["train", "--steps", "99999999999999999999"], "total_steps must be an integer in 1..2147483647",
+             "int32 step counters")
+    # DroQ's 20 updates per step leave a twentieth of the range.
+    _refused(capsys, ["train", "--algo", "droq", "--steps", "200000000"], "1..107374182")
+    _refused(capsys, ["train", "--steps", "2000000000", "--chunk-steps", "1999999999"], "chunk_steps (1999999999) "
+             "rounds the run up")
+
+
+@pytest.mark.parametrize("command", ["evaluate", "render"])
+def test_evaluate_and_render_name_a_missing_saved_policy(capsys, command, tmp_path):
+    committed = REFERENCE / "forward" / "cpg-vf_crossq_forward.json"  # "policy" named, the file not committed
+    assert "policy" in json.loads(committed.read_text())
+    out = ["--out", str(tmp_path / "x.gif")] if command == "render" else []
+    _refused(capsys, [command, str(committed), *out], "cpg-vf_crossq_forward.policy.npz", "is missing")
+
+
+# Bad input of every kind: one line naming the field and what it takes.
+
+@pytest.mark.parametrize("argv, says", [
+    (["train", "--gait-seconds", "nan"], "gait_seconds must be a finite number in (0, 60]"),
+    (["train", "--eval-steps", "1000000000"], "eval_steps must be an integer in 1..100000"),
+    (["train", "--seeds", "3", "--first-seed", "2147483647"], "--first-seed must be an integer in 0..2147483645"),
+    (["train", "--set", "action_delay=maybe"], "protocol field action_delay must be True or False"),
+    (["train", "--set", "rewards=thesis-paper"], "protocol field rewards takes thesis-code, thesis-text"),
+    (["train", "--set", "episode_seconds=inf"], "protocol field episode_seconds must be a finite number"),
+    (["train", "--algo-param", "learning_rate=1e999"], "algorithm parameter learning_rate must be a finite number"),
+    (["train", "--algo-param", "hidden=[256,0]"], "algorithm parameter hidden entry must be an integer in 1.."),
+    (["train", "--algo-param", "batch_size=2.5"], "algorithm parameter batch_size must be an integer"),
+    (["train", "--approach", "jt-lpf", "--approach-param", "cutoff_hz=nan"], "approach parameter cutoff_hz"),
+    (["train", "--task-param", "target_velocity=fast"], "task parameter target_velocity must be a finite number"),
+    (["train", "--coordinator", "localhost", "--num-processes", "2", "--process-id", "0"], "HOST:PORT"),
+    (["sweep", "--vary", "algo_params.learning_rate=0.001,1e999"], "learning_rate must be a finite number"),
+    (["realtime", "--target-velocity", "nan"], "target_velocity must be a finite number in [-5, 5]"),
+    (["realtime", "--seed", "-1"], "seed must be an integer in 0..2147483647"),
+    (["realtime", "--reset-seconds", "inf"], "--reset-seconds must be a finite number"),
+    (["evaluate", "x.json", "--seconds", "nan"], "--seconds must be a finite number in (0, 3600]"),
+    (["render", "x.json", "--seconds", "600"], "--seconds must be a finite number in (0, 60]"),
+    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--command", "0.5,0,inf"],
+     "--command YAW must be a finite number"),
+    (["attribute", "--only"], "--only needs at least one swap"),
+    (["claims", "--json", "/proc/version/board.json"], "is a file, not a folder"),
+    (["claims", "--json", "b.json", "--markdown", "b.json"], "--json and --markdown name the same file"),
+    (["publish", "--results-dir", str(REPO / "figures" / "data")], "--to names the reference folder"),
+])
+def test_bad_values_are_refused_in_one_line_naming_the_field(capsys, argv, says):
+    _refused(capsys, argv, says)
+
+
+def test_an_unwritable_output_is_refused_and_the_check_creates_nothing(capsys, tmp_path):
+    (tmp_path / "file").write_text("")
+    _refused(capsys, ["train", "--out", str(tmp_path / "file" / "sub")], "not writable")
+    _refused(capsys, ["reproduce", "--results-dir", str(tmp_path / "new"), "--figures-dir", str(tmp_path / "file")],
+             "is a file, not a folder")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]  # the results folder was not created
+
+
+# Memory, checked before anything compiles.
+
+def test_a_run_that_cannot_fit_is_refused_with_the_estimate_before_compiling(capsys, monkeypatch, tmp_path):
+    monkeypatch.setattr(memory, "available", lambda: (8 * memory.GIB, 16 * memory.GIB, "memory"))
+    compiles = len(conftest.COMPILES)
+    err = _refused(capsys, ["train", "--seeds", "1000", "--steps", "50000", "--out", str(tmp_path / "out")],
+                   "the run does not fit", "1000 seeds x 26.2 MiB carry", "8.0 GiB memory available of 16.0 GiB")
+    assert float(err.split("~")[1].split(" GiB")[0]) > 50  # 1000 x 26 MiB, twice, and the process
+    # Building the env's shapes dispatches a few eager conversions (milliseconds each); a training program's
+    # chunk compiles for 30-60 s.
+    compiled = [(program, s) for _, phase, program, s in conftest.COMPILES[compiles:] if phase == "xla_compile_s"]
+    assert sum(s for _, s in compiled) < 1.0 and not any("chunk" in program for program, _ in compiled), compiled
+    assert not (tmp_path / "out").exists()
+    _refused(capsys, ["sweep", "--seeds", "200", "--vary", "algo_params.learning_rate=0.001,0.002", "--out",
+                      str(tmp_path / "out")], "the run does not fit", "2 members x 200 seeds")
+    _refused(capsys, ["realtime", "--steps", "2000000000"], "the run does not fit", "2000000000 steps of replay")
+
+
+def test_dry_run_prints_the_plan_and_its_memory_and_trains_nothing(capsys, tmp_path):
+    assert main(["train", "--seeds", "10", "--dry-run", "--out", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "would train jt-oef_crossq_forward" in out and "10 seeds x 50000 steps in 50 chunks" in out
+    assert "memory: ~" in out and "10 seeds x 26.2 MiB carry, 23.3 MiB of it replay" in out and "available of" in out
+    assert not (tmp_path / "out").exists()
+    assert main(["sweep", "--vary", "algo_params.learning_rate=0.001,0.003", "--dry-run", "--out",
+                 str(tmp_path / "sweep")]) == 0
+    assert "2 members x 3 seeds" in capsys.readouterr().out and not (tmp_path / "sweep").exists()
+
+
+def test_the_estimate_scales_with_seeds_steps_and_sweep_members():
+    from mjx_badger.train import TrainConfig
+
+    small, large = TrainConfig(total_steps=10_000, chunk_steps=1000), TrainConfig(total_steps=50_000)
+    assert memory.carry_sizes(large)["replay_bytes"] == pytest.approx(5 * memory.carry_sizes(small)["replay_bytes"], rel=1e-4)
+    grow = lambda config, **k: memory.estimate(config, **k) - memory.OVERHEAD_BYTES
+    assert grow(large, seeds=4) == 4 * grow(large, seeds=1) == 2 * grow(large, seeds=2, members=1)
+    assert grow(large, seeds=2, members=3) == 6 * grow(large, seeds=1)
+
+
+# One writer per output; a killed holder leaves no stuck lock.
+
+def test_a_second_run_into_the_same_results_is_refused_naming_the_running_one(capsys, tmp_path):
+    out = tmp_path / "jt-oef_crossq_forward.json"
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time\nfrom mjx_badger import locks\n"
+                               "with locks.hold(sys.argv[1]):\n    print('held', flush=True)\n    time.sleep(600)",
+                               str(out)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        assert main([*TINY, "--out", str(tmp_path)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and f"is being written by process {holder.pid}" in err, err
+    finally:
+        holder.send_signal(signal.SIGKILL)
+        holder.wait()
+    with locks.hold(out):  # the kernel dropped the killed holder's lock
+        assert str(os.getpid()) in locks.path_for(out).read_text()
+    assert not locks.path_for(out).exists()
+
+
+# Damaged files are named and skipped (figures, claims) or refused (evaluate, render); the tests of resuming
+# from one are in test_faults.py.
+
+@pytest.fixture
+def damaged_forward(tmp_path):
+    """The committed quick forward results copied, one of them cut short and one policy cut short."""
+    folder = tmp_path / "results" / "quick" / "thesis-code" / "forward"
+    shutil.copytree(REFERENCE / "forward", folder)
+    cut = folder / "jt-nf_crossq_forward.json"
+    cut.write_text(cut.read_text()[:5000])
+    policy = folder / "cpg-d_crossq_forward.policy.npz"
+    policy.write_bytes(policy.read_bytes()[:3000])
+    return folder
+
+
+def test_figures_and_claims_skip_a_damaged_results_file_naming_it(capsys, damaged_forward, tmp_path):
+    results_dir = tmp_path / "results"
+    assert main(["claims", "--results-dir", str(results_dir), "--protocol", "thesis-code"]) == 0
+    captured = capsys.readouterr()
+    assert f"skipping {damaged_forward / 'jt-nf_crossq_forward.json'} cannot be read" in captured.err
+    assert "Traceback" not in captured.err and "thesis-code protocol, quick profile" in captured.out
+    assert main(["figures", "--results-dir", str(results_dir)]) == 0
+    captured = capsys.readouterr()
+    assert "skipping" in captured.err and "jt-nf_crossq_forward.json" in captured.err
+    assert (results_dir / "figures" / "thesis-code" / "forward_quick.png").exists()  # under the results folder
+
+
+@pytest.mark.parametrize("command", ["evaluate", "render"])
+def test_evaluate_and_render_refuse_a_damaged_results_file_or_policy(capsys, damaged_forward, tmp_path, command):
+    out = ["--out", str(tmp_path / "x.gif")] if command == "render" else []
+    _refused(capsys, [command, str(damaged_forward / "jt-nf_crossq_forward.json"), *out], "cannot be read")
+    _refused(capsys, [command, str(damaged_forward / "cpg-d_crossq_forward.json"), *out], "damaged policy file")
+    edited = damaged_forward / "jt-oef_crossq_forward.json"
+    document = json.loads(edited.read_text())
+    document["metrics"]["train/falls"] = document["metrics"]["train/falls"][:-1]
+    edited.write_text(json.dumps(document))
+    _refused(capsys, [command, str(edited), *out], "damaged results file", "train/falls")
+    assert not (tmp_path / "x.gif").exists()
+
+
+# References are never clobbered: a run draws under its results folder, and a partial redraw keeps what it cannot redraw.
+
+def _fake_reproduce(monkeypatch, ran=None):
+    def fake_run(config, seeds, path, **kwargs):
+        (ran if ran is not None else []).append(path.name)
+        return {"wall_clock": {"run_s": 0.0}}
+
+    monkeypatch.setattr("mjx_badger.runner.run", fake_run)
+    monkeypatch.setattr("mjx_badger.render.draw", lambda *args, **kwargs: [])
+
+
+def test_a_partial_reproduce_draws_under_its_results_and_keeps_the_verdicts_it_cannot_redraw(tmp_path, monkeypatch,
+                                                                                           capsys):
+    monkeypatch.chdir(tmp_path)
+    _fake_reproduce(monkeypatch)
+    board = tmp_path / "results" / "figures" / "claims_quick.md"
+    board.parent.mkdir(parents=True)
+    shutil.copy(REPO / "figures" / "claims_quick.md", board)
+    before = board.read_text()
+    assert main(["reproduce", "--experiments", "forward"]) == 0
+    out = capsys.readouterr().out
+    rows = lambda text: [line for line in text.splitlines() if line.startswith("| ")]
+    assert rows(board.read_text()) == rows(before)  # no results here: every verdict kept, totals the same
+    kept = [line for line in out.splitlines() if line.startswith("kept ")]
+    assert len(kept) == 2 * len(claims.CLAIMS) - before.count("not run yet") and "no results for it under" in kept[0]
+    assert [p.name for p in tmp_path.iterdir()] == ["results"]  # nothing written outside the run's results folder
+
+
+def test_the_scoreboard_takes_new_verdicts_and_keeps_only_the_missing_ones():
+    old = claims.scoreboard_markdown({"thesis-code": [claims.Verdict(c, "old", True) for c in claims.CLAIMS]})
+    new = [claims.Verdict(c, "new", False) if i == 0 else claims.Verdict(c, "no results yet", None)
+           for i, c in enumerate(claims.CLAIMS)]
+    text, kept = claims.keep_decided(claims.scoreboard_markdown({"thesis-code": new}), old)
+    assert "fails: new" in text and text.count("**holds**: old") == len(claims.CLAIMS) - 1
+    assert len(kept) == len(claims.CLAIMS) - 1
+    assert f"| **claims that hold** | | {len(claims.CLAIMS) - 1} of {len(claims.CLAIMS)} |" in text
+
+
+def test_figures_from_fewer_results_keep_the_figures_already_there(tmp_path, capsys):
+    results_dir = tmp_path / "results"
+    folder = results_dir / "quick" / "thesis-code" / "forward"
+    folder.mkdir(parents=True)
+    for name in ("jt-nf_crossq_forward.json", "cpg-vf_crossq_forward.json"):
+        shutil.copy(REFERENCE / "forward" / name, folder / name)
+    figure = results_dir / "figures" / "thesis-code" / "forward_quick.png"
+    figure.parent.mkdir(parents=True)
+    figure.write_bytes(b"drawn from all six runs")
+    assert main(["figures", "--results-dir", str(results_dir)]) == 0
+    out = capsys.readouterr().out
+    assert figure.read_bytes() == b"drawn from all six runs"
+    assert f"kept {figure}: 2 of 6 runs complete under {folder}" in out
+    assert not (figure.parent / "forward_quick.md").exists()  # the experiment is left alone, table included
+    figure.unlink()
+    assert main(["figures", "--results-dir", str(results_dir)]) == 0  # nothing to keep: drawn from what there is
+    assert figure.stat().st_size > 10_000
+    figure.write_bytes(b"drawn from two")
+    shutil.copy(REFERENCE / "forward" / "jt-oef_crossq_forward.json", folder)
+    assert main(["figures", "--results-dir", str(results_dir)]) == 0  # a run that goes on redraws its own
+    assert figure.read_bytes() != b"drawn from two"
+    (folder / "jt-nf_crossq_forward.json").unlink()
+    capsys.readouterr()
+    assert main(["figures", "--results-dir", str(results_dir)]) == 0
+    assert f"kept {figure}: 2 of 6 runs complete" in capsys.readouterr().out
+
+
+def test_a_full_disk_while_drawing_keeps_the_figure_before(tmp_path, monkeypatch, capsys):
+    results_dir = tmp_path / "results"
+    shutil.copytree(REFERENCE / "forward", results_dir / "quick" / "thesis-code" / "forward")
+    figure = results_dir / "figures" / "thesis-code" / "forward_quick.png"
+    figure.parent.mkdir(parents=True)
+    figure.write_bytes(b"before")
+    real = safe_io._put
+
+    def full(tmp, data):
+        if tmp.name.startswith(".forward_quick.png."):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(tmp))
+        real(tmp, data)
+
+    monkeypatch.setattr(safe_io, "_put", full)
+    assert main(["figures", "--results-dir", str(results_dir)]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "error: No space left on device writing" in err, err
+    assert figure.read_bytes() == b"before" and not list(figure.parent.glob(".*.tmp"))
+
+
+def test_a_failed_folder_save_leaves_the_one_before(tmp_path):
+    folder = tmp_path / "run.checkpoint"
+    safe_io.replace_folder(folder, lambda f: (f / "a").write_text("one"))
+
+    def fails(fresh):
+        (fresh / "a").write_text("two")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    with pytest.raises(OSError):
+        safe_io.replace_folder(folder, fails)
+    assert (folder / "a").read_text() == "one" and sorted(p.name for p in tmp_path.iterdir()) == ["run.checkpoint"]
+    folder.rename(tmp_path / "run.checkpoint.old")  # killed between the two renames of a save
+    assert safe_io.newest_folder(folder) == tmp_path / "run.checkpoint.old"
+
+
+# SIGTERM and Ctrl-C in reproduce: the run at hand saves itself (test_faults.py); between runs it stops there.
+
+def test_reproduce_stops_between_runs_on_sigterm_and_draws_nothing(tmp_path, monkeypatch, capsys):
+    ran = []
+
+    def run_then_signal(config, seeds, path, **kwargs):
+        ran.append(path.name)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return {"wall_clock": {"run_s": 0.0}}
+
+    monkeypatch.setattr("mjx_badger.runner.run", run_then_signal)
+    assert main(["reproduce", "--profile", "smoke", "--experiments", "forward", "--results-dir",
+                 str(tmp_path)]) == 128 + signal.SIGTERM
+    err = capsys.readouterr().err
+    assert len(ran) == 1 and "stopped by SIGTERM before run 2 of 6" in err and "run the same command again" in err
+    assert not (tmp_path / "figures").exists()
+    assert signal.getsignal(signal.SIGTERM) == signal.SIG_DFL  # the handlers are given back
+
+
+def test_a_run_stopped_by_a_signal_ends_reproduce_with_its_line(tmp_path, monkeypatch, capsys):
+    def stopped(config, seeds, path, **kwargs):
+        raise stops.Interrupted(signal.SIGINT, f"stopped by SIGINT at step 100 of 300: results in {path}")
+
+    monkeypatch.setattr("mjx_badger.runner.run", stopped)
+    assert main(["reproduce", "--profile", "smoke", "--experiments", "forward", "--results-dir",
+                 str(tmp_path)]) == 130
+    assert "stopped by SIGINT at step 100 of 300" in capsys.readouterr().err
