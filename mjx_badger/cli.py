@@ -240,7 +240,7 @@ class Reproduce:
         from mjx_badger import memory
 
         if not self.experiments:
-            raise ValueError(f"--experiments needs at least one name; choose from {', '.join(EXPERIMENTS)}")
+            raise ValueError(f"--experiments needs at least one name; choose from {', '.join((*EXPERIMENTS, *GROUPS))}")
         if len(set(self.experiments)) != len(self.experiments):
             raise ValueError(f"--experiments names an experiment twice: {' '.join(self.experiments)}")
         writable_dir(self.results_dir, "results folder")
@@ -248,7 +248,7 @@ class Reproduce:
         self.cluster.start()  # before JAX touches a device, which the estimate does
         seeds = PROFILES[self.profile].seeds
         check_seed_devices(seeds)
-        for name in self.experiments:  # one run at a time: the largest decides
+        for name in expand(self.experiments):  # one run at a time: the largest decides
             experiment = EXPERIMENTS[name]
             for run in experiment.runs:
                 memory.check(experiment.train_config(run, self.profile, self.protocol), seeds)

@@ -12,6 +12,7 @@ factor, so `attribute` can swap one at a time (attribution.py).
 import dataclasses
 import math
 
+from mjx_badger import validation
 from mjx_badger.sensors import EXACT, Sensing
 
 
@@ -40,6 +41,8 @@ class Ground:
     def validate(self) -> None:
         if self.terrain not in ("flat", "cobblestones"):
             raise ValueError(f"unknown terrain {self.terrain!r}; choose from flat, cobblestones")
+        if len(self.friction) != 2:
+            raise ValueError(f"ground friction {self.friction}: give one number or a range (low, high)")
         low, high = self.friction
         if not 0 < low <= high:
             raise ValueError(f"ground friction range {self.friction} must satisfy 0 < low <= high")
@@ -105,12 +108,21 @@ class Conditions:
         if unknown:
             raise ValueError(f"unknown condition fields {', '.join(unknown)}; choose from {', '.join(sorted(fields))}, "
                              f"ground.{', ground.'.join(f.name for f in dataclasses.fields(Ground))}")
+        if isinstance(ground.get("friction"), (int, float)) and not isinstance(ground["friction"], bool):
+            ground["friction"] = (float(ground["friction"]),) * 2
+        # The kind of value each field holds (any of the defined conditions' kinds), before it is set.
+        for key, value in rest.items():
+            if key != "sensing":
+                validation.like_any("condition field", key, value, [getattr(c, key) for c in CONDITIONS.values()])
+            elif value is not None and not isinstance(value, (str, Sensing)):
+                raise ValueError(f"condition field sensing takes None, 'exact' or an estimator's name, not {value!r}")
+        for key, value in ground.items():
+            validation.like_any("condition field", f"ground.{key}", value,
+                                [getattr(c.ground, key) for c in CONDITIONS.values()])
         if rest.get("sensing") == "exact":
             rest["sensing"] = Sensing(sensors=EXACT)
         elif isinstance(rest.get("sensing"), str):
             rest["sensing"] = Sensing(estimator=rest["sensing"])
-        if isinstance(ground.get("friction"), (int, float)):
-            ground["friction"] = (float(ground["friction"]),) * 2
         out = dataclasses.replace(self, ground=dataclasses.replace(self.ground, **ground), **rest)
         out.validate()
         return out

@@ -10,7 +10,9 @@ import tyro
 
 from mjx_badger import learned_estimator
 
-OMNI_POLICY = Path("figures/data/estimators/policy/cpg-vf_crossq_omni-pdec.json")
+REFERENCE = Path(__file__).resolve().parent.parent / "figures" / "data"
+"""The committed results (a clone's), found from any working folder."""
+OMNI_POLICY = REFERENCE / "estimators" / "policy" / "cpg-vf_crossq_omni-pdec.json"
 """The committed omnidirectional policy (CPG-VF, CrossQ, curriculum, thesis-code, 3 seeds x 20k steps; its best seed)."""
 
 
@@ -129,16 +131,16 @@ class Fit:
 class Figures:
     """Figures 2.1 and 2.2: the estimators against the truth over a 20 s walk, and the learned ones' MAE per epoch."""
 
-    policies: tuple[Path, ...] = (Path("figures/data/quick/thesis-code/forward/jt-oef_crossq_forward.json"),
-                                  Path("figures/data/quick/thesis-code/forward/cpg-d_crossq_forward.json"))
+    policies: tuple[Path, ...] = (REFERENCE / "quick" / "thesis-code" / "forward" / "jt-oef_crossq_forward.json",
+                                  REFERENCE / "quick" / "thesis-code" / "forward" / "cpg-d_crossq_forward.json")
     """Results files with saved policies, walked on native MuJoCo with sensor noise."""
-    learned: tuple[Path, ...] = (Path("figures/data/estimators/thesis.estimator.npz"),
-                                 Path("figures/data/estimators/rich.estimator.npz"))
+    learned: tuple[Path, ...] = (REFERENCE / "estimators" / "thesis.estimator.npz",
+                                 REFERENCE / "estimators" / "rich.estimator.npz")
     """Fitted estimators to compare (missing files are left out, and said so)."""
     seconds: float = 20.0
     seed: int = 0
-    out: Path = Path("figures/estimators")
-    """Folder for estimators_walk.png, estimators_fit.png and estimators.md/.json."""
+    out: Path = Path("results/estimators/figures")
+    """Folder for estimators_walk.png, estimators_fit.png and estimators.md/.json (the committed ones: figures/estimators)."""
 
     def check(self) -> None:
         from mjx_badger.cli import writable_dir

@@ -18,6 +18,7 @@ episode began are zeros (after standardising), at fit time as when it runs.
 
 import dataclasses
 import json
+import zipfile
 from pathlib import Path
 
 import jax
@@ -102,8 +103,8 @@ def load_dataset(path: Path, spec: RobotSpec = HB40) -> tuple[dict, dict]:
         with np.load(path) as data:
             meta = json.loads(str(data["meta"]))
             arrays = {k: data[k] for k in data.files if k != "meta"}
-    except (OSError, KeyError, ValueError) as error:
-        raise ValueError(f"{path}: not an estimator dataset ({error})") from None
+    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as error:
+        raise ValueError(f"{path}: not an estimator dataset ({error or type(error).__name__})") from None
     if meta.get("format") != DATASET_FORMAT:
         raise ValueError(f"{path}: not a {DATASET_FORMAT} file")
     if meta.get("robot") != spec.name:
@@ -285,8 +286,8 @@ class LearnedEstimator:
             with np.load(path) as data:
                 self.meta = json.loads(str(data["meta"]))
                 self.arrays = {k: data[k] for k in data.files if k != "meta"}
-        except (OSError, KeyError, ValueError) as error:
-            raise ValueError(f"{path}: not a fitted velocity estimator ({error})") from None
+        except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as error:
+            raise ValueError(f"{path}: not a fitted velocity estimator ({error or type(error).__name__})") from None
         if self.meta.get("format") != ESTIMATOR_FORMAT:
             raise ValueError(f"{path}: not a {ESTIMATOR_FORMAT} file")
         if self.meta["robot"] != spec.name:

@@ -16,10 +16,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mjx_badger import cli, faults
+import numpy as np
+
+from mjx_badger import cli, faults, learned_estimator
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
-from mjx_badger.experiments import EXPERIMENTS, PROFILES
+from mjx_badger.conditions import CONDITIONS
+from mjx_badger.experiments import EXPERIMENTS, GROUPS, PROFILES
 from mjx_badger.protocols import PROTOCOLS
 from mjx_badger.robot import ROBOTS
 from mjx_badger.tasks import TASKS
@@ -28,6 +31,8 @@ EXAMPLES = int(os.environ.get("MJX_BADGER_PROPERTY_EXAMPLES", "30"))
 REFERENCE = Path(__file__).resolve().parent.parent / "figures" / "data"
 WITH_POLICY = REFERENCE / "quick" / "thesis-code" / "forward" / "jt-oef_crossq_forward.json"
 POLICY_MISSING = REFERENCE / "quick" / "thesis-code" / "forward" / "cpg-vf_crossq_forward.json"
+OMNI_POLICY = REFERENCE / "estimators" / "policy" / "cpg-vf_crossq_omni-pdec.json"
+FITTED = REFERENCE / "estimators" / "thesis.estimator.npz"
 OUTCOMES_FILE = os.environ.get("MJX_BADGER_PROPERTY_OUTCOMES")
 """With a path, each command's outcome counts are added to this JSON file (docs/robustness.md's table)."""
 
@@ -44,7 +49,16 @@ OPTIONS = {
     "--protocol": list(PROTOCOLS) + ["thesis-paper"],
     "--robot": list(ROBOTS) + ["hb40-v2"],
     "--profile": list(PROFILES) + ["huge"],
-    "--experiments": list(EXPERIMENTS) + ["everything"],
+    "--experiments": list(EXPERIMENTS) + list(GROUPS) + ["everything"],
+    "--conditions": list(CONDITIONS) + ["moon"],
+    "--condition": ["estimate_in_loop=False", "ground.incline_deg=nan", "ground.incline_deg=90", "ground.friction=0.9",
+                    "ground.friction=(0.9,0.1)", "ground.contacts=('thigh','foot')", "ground.terrain=lava",
+                    "sensing=ekf", "sensing=exact", "sensing=None", "reset_seconds=-1", "nope=1"],
+    "--results": [str(OMNI_POLICY), str(WITH_POLICY), "missing.json", "file"],
+    "--dataset": ["dataset.npz", "dataset.npz", "missing.npz", "file"],
+    "--inputs": ["thesis", "rich", "everything"],
+    "--policies": [str(WITH_POLICY), "missing.json"],
+    "--learned": [str(FITTED), "missing.npz", "file"],
     "--budgets": list(PROFILES) + ["none"],
     "--only": ["action delay", "DroQ", "reward forms", "nothing"],
     "--set": PAIRS, "--approach-param": PAIRS, "--algo-param": PAIRS, "--task-param": PAIRS,
@@ -57,14 +71,15 @@ OPTIONS = {
     "--init-from": [str(WITH_POLICY), "missing.json", "file"],
 }
 INTEGER_OPTIONS = ["--steps", "--total-steps", "--chunk-steps", "--warmup-steps", "--eval-steps", "--seeds",
-                   "--first-seed", "--num-processes", "--process-id", "--vmapped", "--seed", "--init-seed"]
+                   "--first-seed", "--num-processes", "--process-id", "--vmapped", "--seed", "--init-seed", "--envs",
+                   "--epochs", "--batch-size"]
 FLOAT_OPTIONS = ["--gait-seconds", "--target-velocity", "--control-hz", "--episode-seconds", "--updates-per-step",
-                 "--eval-seconds", "--reset-seconds", "--seconds"]
+                 "--eval-seconds", "--reset-seconds", "--seconds", "--action-noise"]
 PATH_OPTIONS = ["--out", "--results-dir", "--figures-dir", "--json", "--markdown", "--to"]
 FLAGS = ["--quiet", "--restart", "--no-tensorboard", "--dry-run", "--force", "--planned-contacts", "--unthrottled",
          "--no-sensor-noise"]
 RUN = ["--approach", "--algo", "--task", "--protocol", "--robot", "--set", "--approach-param", "--algo-param",
-       "--task-param"]
+       "--task-param", "--conditions", "--condition"]
 CLUSTER = ["--coordinator", "--num-processes", "--process-id"]  # --distributed would join a cluster: left out
 COMMANDS = {
     "train": RUN + CLUSTER + ["--steps", "--total-steps", "--chunk-steps", "--warmup-steps", "--eval-steps",
@@ -84,14 +99,17 @@ COMMANDS = {
                        "--quiet"],
     "evaluate": ["--seed", "--command", "--seconds", "--engine", "--json"],
     "render": ["--seed", "--command", "--seconds", "--out"],
+    "estimator collect": ["--results", "--steps", "--envs", "--task", "--action-noise", "--seed", "--out"],
+    "estimator fit": ["--dataset", "--inputs", "--epochs", "--batch-size", "--out"],
+    "estimator figures": ["--policies", "--learned", "--seconds", "--seed", "--out"],
     "list": [],
 }
 POSITIONAL = {"evaluate": [str(WITH_POLICY)] * 3 + [str(POLICY_MISSING), "missing.json", "file"]}
 POSITIONAL["render"] = POSITIONAL["evaluate"]
 MOST = {"evaluate": 3, "render": 3}
 """Options drawn at most (default 6): each of these few is refused often, so more would leave no valid case."""
-LEADING = {"sweep": ["--vary"], "publish": ["--to"]}
-SEQUENCES = {"--experiments", "--budgets", "--only"}
+LEADING = {"sweep": ["--vary"], "publish": ["--to"], "estimator fit": ["--dataset"]}
+SEQUENCES = {"--experiments", "--budgets", "--only", "--policies", "--learned"}
 """Options that take several values (or none)."""
 
 
@@ -114,7 +132,7 @@ def values(option: str):
 @st.composite
 def arguments(draw, command: str) -> list[str]:
     """An argument list for `command`: its options with drawn values, now and then an unknown option or a stray word."""
-    argv = [command]
+    argv = command.split()  # "estimator fit": a command and its subcommand
     if command in POSITIONAL:
         argv.append(draw(st.sampled_from(POSITIONAL[command])))
     for option in LEADING.get(command, ()):  # what the command is hardly ever run without, most of the time
@@ -125,6 +143,14 @@ def arguments(draw, command: str) -> list[str]:
     if draw(st.integers(0, 9)) == 0:
         argv.insert(draw(st.integers(1, len(argv))), draw(st.sampled_from(["--bogus", "stray", "-x", "--steps=1"])))
     return argv
+
+
+def tiny_dataset() -> tuple[dict, dict]:
+    """(arrays, meta) of an estimator dataset of 4 steps of 2 envs, for `estimator fit`'s checks."""
+    arrays = {name: np.zeros((4, 2, size), np.float32) for name, size in learned_estimator.FIELDS}
+    arrays.update(velocity=np.zeros((4, 2, 3), np.float32), done=np.zeros((4, 2), bool))
+    return arrays, {"robot": "hb40", "fields": [list(f) for f in learned_estimator.FIELDS], "policy": "none",
+                    "steps": 4, "envs": 2, "task": "none", "control_hz": 40.0}
 
 
 def snapshot(folder: Path) -> dict:
@@ -138,6 +164,7 @@ def one_case(argv: list[str]) -> int:
         (folder / "file").write_text("")
         (folder / "results" / "quick" / "thesis-code").mkdir(parents=True)
         (folder / "grid.json").write_text(json.dumps({"algo_params.learning_rate": [0.001, 0.003]}))
+        learned_estimator.save_dataset(folder / "dataset.npz", *tiny_dataset())
         before, cwd, errors = snapshot(folder), os.getcwd(), io.StringIO()
         os.chdir(folder)
         try:
