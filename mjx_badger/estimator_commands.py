@@ -135,7 +135,9 @@ class Figures:
                                   REFERENCE / "quick" / "thesis-code" / "forward" / "cpg-d_crossq_forward.json")
     """Results files with saved policies, walked on native MuJoCo with sensor noise."""
     learned: tuple[Path, ...] = (REFERENCE / "estimators" / "thesis.estimator.npz",
-                                 REFERENCE / "estimators" / "rich.estimator.npz")
+                                 REFERENCE / "estimators" / "rich.estimator.npz",
+                                 REFERENCE / "estimators" / "noise-0.3" / "thesis.estimator.npz",
+                                 REFERENCE / "estimators" / "noise-1.0" / "thesis.estimator.npz")
     """Fitted estimators to compare (missing files are left out, and said so)."""
     seconds: float = 20.0
     seed: int = 0

@@ -87,7 +87,7 @@ def compare(walks: list, learned: list) -> dict:
         runs = {name: replay(estimators.make(name), w["readings"], w["reset"], w["dt"]) for name in CLASSIC}
         for path in learned:
             fitted = learned_estimator.load(path)
-            runs[f"(c) learned, {fitted.inputs.name} inputs"] = replay(fitted.estimator(), w["readings"], w["reset"],
+            runs[f"(c) learned: {label(fitted.meta)}"] = replay(fitted.estimator(), w["readings"], w["reset"],
                                                                       w["dt"])
         out[w["name"]] = {"velocity": runs, "scores": {name: scores(v, w["truth"], w["dt"]) for name, v in runs.items()}}
     return out
@@ -98,8 +98,14 @@ def fit_curves(learned: list) -> dict:
     curves = {}
     for path in learned:
         meta = learned_estimator.load(path).meta
-        curves[meta["inputs"]["name"]] = {k: [float(np.mean(epoch)) for epoch in v] for k, v in meta["curves"].items()}
+        curves[label(meta)] = {k: [float(np.mean(epoch)) for epoch in v] for k, v in meta["curves"].items()}
     return curves
+
+
+def label(meta: dict) -> str:
+    """A fitted estimator's name in figures and tables: its inputs, and its data's action noise where there was some."""
+    noise = meta["dataset"].get("action_noise") or 0.0
+    return f"{meta['inputs']['name']} inputs" + (f", data with noisy actions ({noise:g})" if noise else "")
 
 
 def draw(policies, learned, seconds: float, seed: int, out: Path) -> dict:
@@ -113,19 +119,24 @@ def draw(policies, learned, seconds: float, seed: int, out: Path) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     walks = [walk(path, seconds, seed) for path in policies]
     compared = compare(walks, learned)
-    fig, axes = plt.subplots(len(walks), 1, figsize=(11, 3.6 * len(walks)), constrained_layout=True, squeeze=False)
-    for ax, w in zip(axes[:, 0], walks):
+    fig, axes = plt.subplots(len(walks), 2, figsize=(15, 3.6 * len(walks)), constrained_layout=True, squeeze=False,
+                             sharey="row")
+    for row, w in zip(axes, walks):
         time = w["dt"] * np.arange(1, len(w["truth"]) + 1)
-        ax.plot(time, w["truth"][:, 0], color="black", lw=1.6, label="ground truth")
-        for name, velocity in compared[w["name"]]["velocity"].items():
-            ax.plot(time, velocity[:, 0], lw=1.0, label=LABELS.get(name, name))
-        for t in time[w["reset"]]:
-            ax.axvline(t, color="red", lw=0.6, alpha=0.5)
-        ax.set_title(f"{w['name']}, forward at {w['command'][0]:g} m/s, native MuJoCo with sensor noise")
-        ax.set_xlabel("time (s)")
-        ax.set_ylabel("forward velocity (m/s)")
-        ax.grid(alpha=0.3)
-    axes[0, 0].legend(fontsize=7, loc="upper left")
+        for ax, kind in zip(row, ("classic", "learned")):
+            ax.plot(time, w["truth"][:, 0], color="black", lw=1.6, label="ground truth")
+            for name, velocity in compared[w["name"]]["velocity"].items():
+                if (name in CLASSIC) == (kind == "classic"):
+                    ax.plot(time, velocity[:, 0], lw=1.0, label=LABELS.get(name, name))
+            for t in time[w["reset"]]:
+                ax.axvline(t, color="red", lw=0.6, alpha=0.5)
+            what = "(a) and (b)" if kind == "classic" else "(c), learned on another policy's walking"
+            ax.set_title(f"{w['name']} at {w['command'][0]:g} m/s, sensor noise: {what}", fontsize=10)
+            ax.set_xlabel("time (s)")
+            ax.grid(alpha=0.3)
+        row[0].set_ylabel("forward velocity (m/s)")
+    for ax in axes[0]:
+        ax.legend(fontsize=7, loc="lower right")
     fig.savefig(out / "estimators_walk.png", dpi=110)
     plt.close(fig)
     files = [str(out / "estimators_walk.png")]
@@ -134,8 +145,8 @@ def draw(policies, learned, seconds: float, seed: int, out: Path) -> dict:
         fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
         for name, curve in curves.items():
             epochs = np.arange(1, len(curve["train_mae"]) + 1)
-            line, = ax.plot(epochs, curve["validation_mae"], label=f"{name} inputs, validation")
-            ax.plot(epochs, curve["train_mae"], color=line.get_color(), ls="--", label=f"{name} inputs, training")
+            line, = ax.plot(epochs, curve["validation_mae"], label=f"{name}: validation")
+            ax.plot(epochs, curve["train_mae"], color=line.get_color(), ls="--", label=f"{name}: training")
         ax.axhline(0.2, color="gray", ls=":", label="thesis: saturates at 0.2")
         ax.axhline(0.05, color="green", ls=":", label="thesis: adequate below 0.05")
         ax.set_xlabel("epoch")
@@ -173,7 +184,7 @@ def table(report: dict) -> str:
                          f"{LABELS.get(estimator, estimator)} | {s['ratio_to_truth']:.2f} | {s['mae_vx']:.3f} | "
                          f"{s['mae_vy']:.3f} | {s['drift_vx']:+.3f} |")
     if report["fit"]:
-        lines += ["", "| learned estimator inputs | train MAE | validation MAE (last epoch) | best validation MAE | "
+        lines += ["", "| learned estimator | train MAE | validation MAE (last epoch) | best validation MAE | "
                       "thesis |", "|---|---|---|---|---|"]
         for name, f in report["fit"].items():
             lines.append(f"| {name} | {f['final_train_mae']:.3f} | {f['final_validation_mae']:.3f} | "

@@ -156,7 +156,10 @@ def collect(results_path: Path, steps: int, envs: int, task: str = "omni-random"
         if progress is not None:
             progress(min(done + chunk, steps))
     arrays = {k: np.concatenate([p[k] for p in parts])[:steps] for k in parts[0]}
-    meta = {"robot": config.robot_spec.name, "fields": [list(f) for f in FIELDS], "policy": str(results_path),
+    repository = Path(__file__).resolve().parent.parent
+    where = Path(results_path).resolve()
+    shown = where.relative_to(repository) if where.is_relative_to(repository) else where  # no machine's folders
+    meta = {"robot": config.robot_spec.name, "fields": [list(f) for f in FIELDS], "policy": str(shown),
             "policy_seed": policy_seed, "approach": config.approach, "task": task,
             "protocol": env_config.protocol.name, "control_hz": env.control_hz, "steps": steps, "envs": envs,
             "seed": seed, "action_noise": action_noise, "sensors": "exact (no noise, as the thesis's dataset)"}
@@ -262,7 +265,7 @@ def fit(meta: dict, arrays: dict, inputs: Inputs, config: FitConfig = FitConfig(
             arrays_out[f"{name}/dense_{i}/bias"] = np.asarray(bias[o])
     meta_out = {"format": ESTIMATOR_FORMAT, "robot": meta["robot"], "inputs": dataclasses.asdict(inputs),
                 "outputs": list(OUTPUTS), "layers": len(params), "control_hz": meta["control_hz"],
-                "fit": dataclasses.asdict(config), "dataset": {k: meta[k] for k in ("policy", "steps", "envs", "task")},
+                "fit": dataclasses.asdict(config), "dataset": {k: meta.get(k, 0.0) for k in ("policy", "steps", "envs", "task", "action_noise")},
                 "train_envs": [int(e) for e in train_envs], "validation_envs": [int(e) for e in validation_envs],
                 "curves": curves}
     return {"meta": meta_out, "arrays": arrays_out}
