@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 
 from bench_spine import timed  # the script's own folder is on sys.path
-from mjx_badger import estimators, results, sensors
+from mjx_badger import estimators, evaluation, results, sensors
 from mjx_badger.env import EnvConfig, HB40Env
 
 OUT = Path(__file__).parent / "results" / "bench_estimators.json"
@@ -27,7 +27,8 @@ def env_steps_per_s(sensing, batch: int, on_robot=None) -> float:
     actions = 0.3 * jnp.sin(jnp.arange(STEPS)[:, None] * 0.2 + jnp.arange(env.action_size))
 
     def rollout(key):
-        state = env.reset(key)
+        # Every leaf made to depend on the key: vmap would otherwise step the key-free physics once for the batch.
+        state = evaluation.batched_like(env.reset(key), key)
         return jax.lax.scan(lambda s, a: (env.step(s, a), None), state, actions)[0].obs
 
     run = jax.jit(jax.vmap(rollout))

@@ -24,11 +24,12 @@ from typing import Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from mjx_badger import kinematics
 from mjx_badger.robot import HB40, RobotSpec
 
-GRAVITY = jnp.array([0.0, 0.0, -9.81])
+GRAVITY = np.array([0.0, 0.0, -9.81], np.float32)  # NumPy: a JAX array here would run a device op at import
 
 
 class Reading(NamedTuple):

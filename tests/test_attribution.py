@@ -1,27 +1,34 @@
-"""One-factor swaps: each sets real protocol fields to the other protocol's values, beside a shared baseline."""
+"""One-factor swaps: each sets real protocol fields to the other protocol's values, or one on-robot condition to
+another, beside a shared baseline."""
 
-from mjx_badger import attribution, claims, protocols
+from mjx_badger import attribution, claims, protocols, real_world
 from mjx_badger.cli import main
+from mjx_badger.train import TrainConfig
 
 
 def test_every_swap_changes_fields_to_the_other_protocols_values_and_names_real_claims():
+    real = {claim.id for claim in real_world.real_claims()}
     for swap in attribution.SWAPS:
-        assert swap.changes or swap.robot != "hb40", swap.name
+        assert swap.changes or swap.robot != "hb40" or swap.condition_changes, swap.name
         base = protocols.PROTOCOLS[swap.base]
         for field, value in swap.changes:
             assert getattr(base, field) != value, (swap.name, field)
-        assert set(swap.claims) <= set(claims.CLAIMS_BY_ID), swap.name
+        conditions = TrainConfig(conditions=swap.conditions).conditions_spec
+        for field, value in swap.condition_changes:  # a condition swap sets a field to another value
+            assert conditions.replace(**{field: value}) != conditions, (swap.name, field)
+        assert set(swap.claims) <= set(claims.CLAIMS_BY_ID) | real, swap.name
 
 
 def test_planned_runs_share_baselines_and_are_small(tmp_path):
     planned = list(attribution.planned(tmp_path))
     paths = [path for *_, path in planned]
     assert len(paths) == len(set(paths))
-    baselines = [config for _, _, config, path in planned if "baseline" in path.parts]
-    assert baselines and all(config.protocol_changes == () and config.robot == "hb40" for config in baselines)
+    baselines = [config for _, _, config, path in planned if any(p.startswith("baseline") for p in path.parts)]
+    assert baselines and all(config.protocol_changes == () and config.robot == "hb40" and config.condition_changes == ()
+                             for config in baselines)
     assert all(config.total_steps == 10_000 for *_, config, _ in planned)
-    swapped = [config for _, _, config, path in planned if "baseline" not in path.parts]
-    assert all(config.protocol_changes or config.robot != "hb40" for config in swapped)
+    swapped = [config for _, _, config, path in planned if not any(p.startswith("baseline") for p in path.parts)]
+    assert all(config.protocol_changes or config.robot != "hb40" or config.condition_changes for config in swapped)
     for config in swapped:
         config.validate()  # the swapped protocol is a valid one
 
