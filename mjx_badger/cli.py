@@ -751,7 +751,7 @@ def measured_estimate(todo: list, args, seeds: int) -> str:
     for experiment, run, _ in todo:
         if run.algo not in speed:
             print(f"timing a short {run.approach} {run.algo} chunk on this machine ...", flush=True)
-            speed[run.algo] = runner.measure(experiment.train_config(run, args.profile, args.protocol),
+            speed[run.algo] = runner.measure_speed(experiment.train_config(run, args.profile, args.protocol),
                                              list(range(seeds)))
         measured = speed[run.algo]
         seconds += experiment.steps(run, args.profile) * seeds / measured["seed_steps_per_s"] + measured["compile_s"]

@@ -89,7 +89,7 @@ class Experiment:
                            protocol_changes=protocol_changes, conditions=self.conditions)
 
 
-APPROACHES = ("jt-nf", "jt-lpf", "jt-oef", "cpg-d", "cpg-vf", "cpg-rt")
+THESIS_APPROACHES = ("jt-nf", "jt-lpf", "jt-oef", "cpg-d", "cpg-vf", "cpg-rt")
 """The six approaches of thesis Table 5.2 (the residual-combination variants are options, not experiments)."""
 
 EXPERIMENTS = {
@@ -117,7 +117,7 @@ EXPERIMENTS = {
     "forward": Experiment(
         name="forward",
         thesis_figure="Figs 5.3-5.5",
-        runs=tuple(Run(a, "crossq", "forward") for a in APPROACHES),
+        runs=tuple(Run(a, "crossq", "forward") for a in THESIS_APPROACHES),
         # Thesis §5.1.2: steps to converge to 0.5 m/s ("more than 10k" for CPG-RT), mean falls over
         # 50k steps, gait frequency after training.
         thesis_numbers={
@@ -132,7 +132,7 @@ EXPERIMENTS = {
     "forward-max": Experiment(
         name="forward-max",
         thesis_figure="Figs 5.6-5.8, Tables 6.1/6.2",
-        runs=tuple(Run(a, "crossq", "forward-max") for a in APPROACHES),
+        runs=tuple(Run(a, "crossq", "forward-max") for a in THESIS_APPROACHES),
         # Thesis §5.1.3 and Tables 6.1/6.2 (simulation column): maximal forward velocity (m/s),
         # mean falls over 50k steps, gait frequency.
         thesis_numbers={
@@ -150,7 +150,7 @@ EXPERIMENTS = {
     "omni-random": Experiment(
         name="omni-random",
         thesis_figure="Figs 5.9-5.11",
-        runs=tuple(Run(a, "crossq", "omni-random") for a in APPROACHES),
+        runs=tuple(Run(a, "crossq", "omni-random") for a in THESIS_APPROACHES),
         # Thesis §5.1.4: JT approaches ~30 falls and stand still; CPG approaches never fall, CPG-VF
         # best (reaches the target forward and backward, yaw within +-0.2 rad/s).
         thesis_numbers={

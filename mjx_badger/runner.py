@@ -136,7 +136,7 @@ def _sharded(parts: list, sharding: NamedSharding):
     return jax.tree.map(join, *parts)
 
 
-def measure(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
+def measure_speed(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
     """This machine's speed for `config`: a chunk of `steps` learning steps (updates from the first), timed
     after a first one; seed-steps/s and compile seconds (of the short program: a real run's is close)."""
     carry, chunk, compile_s = compiled(make_train(short_run(config, steps)), seeds)

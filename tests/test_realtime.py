@@ -327,7 +327,7 @@ def test_the_robot_observes_and_scores_as_the_environment_does():
     sensor = lambda name: np.asarray(data.sensordata[robot.sensor_slice(env.mj_model, name)])
     sensors = Sensors(0.0, np.asarray(data.qpos[7:]), np.asarray(data.qvel[6:]), np.asarray(data.qfrc_actuator[6:]),
                       sensor("accelerometer"), sensor("gyro"), orientation)
-    measured = control.measure(sensors, np.asarray(before.info["prev_gyro"]), rotation.T @ np.asarray(data.qvel[:3]))
+    measured = control.measured_step(sensors, np.asarray(before.info["prev_gyro"]), rotation.T @ np.asarray(data.qvel[:3]))
     obs, reward, *_ = tick(agent.init(jax.random.PRNGKey(0)), state.info["action_state"], task.init(),
                            state.info["command"], measured, jax.random.PRNGKey(3), False)
     # float32 rounding: the robot's rotation passes through a quaternion (measured: 2e-7).

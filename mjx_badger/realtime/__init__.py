@@ -4,6 +4,6 @@
 the HB40 behind it in native MuJoCo, `estimation` the velocity estimator, `safety` the
 monitor, `scheduling` the control thread's priority and memory lock. `loop.run` is a run:
 `config` its settings, `control` the jitted tick and the 40 Hz episodes, `learner` the
-concurrent learner on `replay`, `checkpoint` stop and resume, `report` the results document
-and trace (their schema), `view` the live terminal line.
+concurrent learner on `host_replay`, `session_checkpoint` stop and resume, `report` the results
+document and trace (their schema), `view` the live terminal line.
 """

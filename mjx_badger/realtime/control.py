@@ -20,7 +20,7 @@ from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
 from mjx_badger.realtime.interface import Robot, Sensors, rotation_matrix
 from mjx_badger.realtime.learner import Learner
-from mjx_badger.realtime.replay import HostReplay
+from mjx_badger.realtime.host_replay import HostReplay
 from mjx_badger.realtime.view import View
 
 
@@ -40,7 +40,8 @@ class Measured(NamedTuple):
     """Trunk-to-world rotation (3, 3) of the IMU's orientation."""
 
 
-def measure(sensors: Sensors, prev_gyro: np.ndarray, velocity: np.ndarray) -> Measured:
+def measured_step(sensors: Sensors, prev_gyro: np.ndarray, velocity: np.ndarray) -> Measured:
+    """What a control step knows of the robot, from one reading, the gyro before it and the estimated velocity."""
     return Measured(sensors.joint_angle, sensors.joint_velocity, sensors.joint_torque, sensors.acceleration,
                     sensors.angular_velocity, prev_gyro, velocity, rotation_matrix(sensors.orientation))
 
@@ -181,7 +182,7 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
         # knock over a robot that can already walk, and the warm-up is there to fill the buffer.
         explore = progress.step < config.warmup_steps and config.init_from is None
         out = session.tick(session.learner.state, action_state, task_state, command,
-                           measure(sensors, prev_gyro, velocity), step_key, explore)
+                           measured_step(sensors, prev_gyro, velocity), step_key, explore)
         obs, reward, task_state, action, next_action_state, target, stance_out = out
         trip = safety.check(sensors, session.env.spec)
         stepping = previous is not None
@@ -247,7 +248,7 @@ def evaluate(session: Session, evaluate_tick, agent_state, task, key) -> dict:
             bot.damp()
             break
         action_state, target = evaluate_tick(agent_state, action_state, command,
-                                             measure(sensors, prev_gyro, velocity))
+                                             measured_step(sensors, prev_gyro, velocity))
         bot.command(np.asarray(target), *session.env.spec.pd_gains)
         prev_gyro = sensors.angular_velocity
         estimated.append(velocity[0])
