@@ -5,6 +5,7 @@ import contextlib
 import dataclasses
 import shutil
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -163,6 +164,11 @@ class Member(NamedTuple):
     seeds: list
     out_path: Path
     env: object
+
+
+def progress_wanted() -> bool:
+    """Whether a command shows the progress bar: on a terminal, or anywhere but a CI job."""
+    return sys.stderr.isatty() or os.environ.get("CI") is None
 
 
 def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True, resume: bool = True,

@@ -93,16 +93,16 @@ def test_claims_without_results_prints_both_empty_scoreboards(capsys, tmp_path):
 
 def test_a_run_shared_by_two_experiments_is_found_and_reused(tmp_path):
     from mjx_badger import results
-    from mjx_badger.cli import _same_run
+    from mjx_badger.reproduce import same_run
     from mjx_badger.experiments import EXPERIMENTS
 
     config = EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "smoke")
     path = tmp_path / "algo-comparison" / "jt-nf_crossq_forward.json"
     results.write(path, {"schema": results.SCHEMA, "config": results.config_dict(config), "seeds": [0, 1],
                          "complete": True})
-    assert _same_run(tmp_path, config, [0, 1]) == path
-    assert _same_run(tmp_path, config, [0, 1, 2]) is None
-    assert _same_run(tmp_path, EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "quick"),
+    assert same_run(tmp_path, config, [0, 1]) == path
+    assert same_run(tmp_path, config, [0, 1, 2]) is None
+    assert same_run(tmp_path, EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "quick"),
                      [0, 1]) is None
 
 
@@ -145,7 +145,7 @@ def test_realtime_refuses_what_a_robot_cannot_run(capsys):
 
 
 def test_reproduce_reports_overall_progress_with_an_eta_once_a_run_has_ended():
-    from mjx_badger.cli import overall_progress
+    from mjx_badger.reproduce import overall_progress
 
     assert overall_progress(0, 4, 0, 100, None) == "run 1 of 4, 0 % of the gradient updates done"
     assert overall_progress(1, 4, 25, 100, 5400.0).endswith("25 % of the gradient updates done, ~1.5 h left")

@@ -140,7 +140,7 @@ def test_seeds_that_do_not_split_over_the_devices_are_refused_before_anything_co
 
 
 def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
-    from mjx_badger import cli
+    from mjx_badger import cli, reproduce
     from mjx_badger.experiments import EXPERIMENTS
 
     timed = []
@@ -153,7 +153,7 @@ def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
     experiment = EXPERIMENTS["algo-comparison"]
     todo = [(experiment, run, None) for run in experiment.runs]
     args = cli.Reproduce(profile="full")
-    line = cli.measured_estimate(todo, args, seeds=10)
+    line = reproduce.measured_estimate(todo, args, seeds=10)
     assert sorted(timed) == sorted((run.algo, 10) for run in experiment.runs)  # one short chunk per algorithm
     expected_s = sum(experiment.steps(run, "full") * 10 / (100.0 if run.algo == "crossq" else 10.0) + 60.0
                      for run in experiment.runs)
