@@ -16,7 +16,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from mjx_badger import replay_buffer, results, robot, runner
+from mjx_badger import mjcf, replay_buffer, results, robot, runner
 from mjx_badger.agents import ALGORITHMS, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
@@ -38,7 +38,7 @@ def timed(fn, *args, repeats=3):
 
 def native_control_steps_per_s(seconds=3.0):
     """Native MuJoCo, one thread: control steps (5 physics steps each) per second."""
-    model = robot.load_model()
+    model = mjcf.load_model()
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
     data.ctrl[:] = robot.nominal_pose()

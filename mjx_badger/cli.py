@@ -553,10 +553,10 @@ class Render(SavedRun):
         if self.out.suffix.lower() != ".gif":
             raise ValueError(f"--out {self.out.name}: videos are written as .gif (an .mp4 needs ffmpeg, not installed)")
         writable_file(self.out, "--out")
-        from mjx_badger import render, robot
+        from mjx_badger import mjcf, render
 
         try:
-            render.check_gl(robot.load_model())
+            render.check_gl(mjcf.load_model())
         except RuntimeError as error:
             raise ValueError(str(error)) from None
 

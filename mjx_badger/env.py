@@ -39,7 +39,7 @@ with contextlib.redirect_stdout(io.StringIO()):
     from brax.envs.base import Env, State
     from mujoco import mjx
 
-from mjx_badger import actions, estimators, protocols, rewards, robot, sensors, tasks, terrain
+from mjx_badger import actions, estimators, mjcf, motors, protocols, rewards, robot, sensors, tasks, terrain
 from mjx_badger.conditions import SIM, Conditions
 from mjx_badger.protocols import Protocol
 from mjx_badger.realtime import safety
@@ -126,16 +126,16 @@ class HB40Env(Env):
         self.conditions = self.config.conditions or SIM
         self.conditions.validate()
         self.ground = self.conditions.ground
-        self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd, ground=self.ground)
-        robot.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg))
+        self.mj_model = mjcf.load_model(spec, split_pd=self.action_space.split_pd, ground=self.ground)
+        motors.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg), split_pd=self.action_space.split_pd)
         # Under jax.distributed, on this process's own device: mjx's default, jax.devices()[0], is process 0's.
         local = jax.local_devices()[0] if jax.process_count() > 1 else None
         self.mjx_model = mjx.put_model(self.mj_model, device=local)
         self._kp, self._kd = self.protocol.pd_gains(self.is_cpg)
         self._trunk = self.mj_model.body("trunk").id
         self._feet = np.array([self.mj_model.geom(name).id for name in spec.foot_geoms])
-        self._accel = robot.sensor_slice(self.mj_model, "accelerometer")
-        self._gyro = robot.sensor_slice(self.mj_model, "gyro")
+        self._accel = mjcf.sensor_slice(self.mj_model, "accelerometer")
+        self._gyro = mjcf.sensor_slice(self.mj_model, "gyro")
         self.sensing = self.config.sensing or self.conditions.sensing
         # Only what the conditions change enters the program: under `sim` it is the one it always was.
         self._varies_friction = self.ground.friction != (spec.friction, spec.friction)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import seed_keys
-from mjx_badger import actions, analysis, filters, kinematics, protocols, robot, tasks
+from mjx_badger import actions, analysis, filters, kinematics, mjcf, protocols, robot, tasks
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.agents.config import Algorithm, crossq
 from mjx_badger.train import TrainConfig, make_train
@@ -82,7 +82,7 @@ def test_a_kind_outside_jt_and_cpg_is_refused():
 
 def test_a_registered_robot_is_built_from_its_spec(toys):
     """The toy robot's model and kinematics both come from its spec: FK equals native MuJoCo's feet."""
-    model = robot.load_model(LONG_LEGS)
+    model = mjcf.load_model(LONG_LEGS)
     assert model.body("trunk").mass[0] == 7.0
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model, LONG_LEGS)

@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjx_badger import kinematics, plots, robot
+from mjx_badger import kinematics, mjcf, plots, robot
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.realtime import control, safety, scheduling
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
@@ -324,7 +324,7 @@ def test_the_robot_observes_and_scores_as_the_environment_does():
     rotation = np.asarray(data.xmat[env.mj_model.body("trunk").id], np.float64)
     orientation = np.zeros(4)
     mujoco.mju_mat2Quat(orientation, rotation.reshape(-1))
-    sensor = lambda name: np.asarray(data.sensordata[robot.sensor_slice(env.mj_model, name)])
+    sensor = lambda name: np.asarray(data.sensordata[mjcf.sensor_slice(env.mj_model, name)])
     sensors = Sensors(0.0, np.asarray(data.qpos[7:]), np.asarray(data.qvel[6:]), np.asarray(data.qfrc_actuator[6:]),
                       sensor("accelerometer"), sensor("gyro"), orientation)
     measured = control.measured_step(sensors, np.asarray(before.info["prev_gyro"]), rotation.T @ np.asarray(data.qvel[:3]))

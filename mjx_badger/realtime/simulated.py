@@ -12,7 +12,7 @@ import time
 import mujoco
 import numpy as np
 
-from mjx_badger import robot, sensors
+from mjx_badger import mjcf, motors, robot, sensors
 from mjx_badger.conditions import SIM, Conditions
 from mjx_badger.realtime import scheduling
 from mjx_badger.realtime.interface import Sensors
@@ -26,7 +26,7 @@ class SimulatedHB40:
         self.spec = spec
         self.conditions = conditions
         # On the conditions' ground (a flat floor, or the cobblestones on their slope), its friction drawn per reset.
-        self.model = robot.load_model(spec, ground=conditions.ground if conditions is not SIM else None)
+        self.model = mjcf.load_model(spec, ground=conditions.ground if conditions is not SIM else None)
         self.data = mujoco.MjData(self.model)
         self.noise = sensors.EXACT if noise is None else noise
         self.reset_seconds = reset_seconds
@@ -42,8 +42,8 @@ class SimulatedHB40:
         self._applied_gains = None
         self._targets = np.asarray(robot.nominal_pose(self.spec), dtype=np.float64)
         self._trunk = self.model.body("trunk").id
-        self._accel = robot.sensor_slice(self.model, "accelerometer")
-        self._gyro = robot.sensor_slice(self.model, "gyro")
+        self._accel = mjcf.sensor_slice(self.model, "accelerometer")
+        self._gyro = mjcf.sensor_slice(self.model, "gyro")
         self._sensors: Sensors | None = None
         self._stand()
 
@@ -126,7 +126,7 @@ class SimulatedHB40:
         while self._running.is_set():
             with self._lock:
                 if self._gains != self._applied_gains:
-                    robot.set_pd_gains(self.model, *self._gains)
+                    motors.set_pd_gains(self.model, *self._gains)
                     self._applied_gains = self._gains
                 self.data.ctrl[:] = self._targets
                 mujoco.mj_step(self.model, self.data)
