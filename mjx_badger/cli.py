@@ -413,9 +413,11 @@ class Attribute:
 
 @dataclasses.dataclass(frozen=True)
 class Realtime:
-    """Train on one robot at wall-clock rate, learner beside the control loop (a simulated HB40 here)."""
+    """Train on one robot at wall-clock rate, learner beside the control loop (by default a simulated HB40)."""
 
     run: Annotated[RealtimeConfig, Flat] = RealtimeConfig()
+    robot_adapter: str = "simulated"
+    """The robot to train on, by its adapter's name (realtime/adapters.py): 'simulated', the HB40 in native MuJoCo."""
     reset_seconds: float = 2.0
     """Simulated manual reset after a safety stop (not counted as training time)."""
     no_sensor_noise: bool = False
@@ -429,7 +431,9 @@ class Realtime:
 
     def check(self) -> None:
         from mjx_badger import memory
+        from mjx_badger.realtime import adapters
 
+        adapters.check(self.robot_adapter)
         if self.reset_seconds < 0:
             raise ValueError("--reset-seconds must not be negative")
         number("--reset-seconds", self.reset_seconds, 0.0, 3600.0)
@@ -437,24 +441,18 @@ class Realtime:
         memory.check_realtime(self.run)
 
     def __call__(self) -> int:
-        from mjx_badger import plots
-        from mjx_badger.realtime import loop
-        from mjx_badger import sensors
-        from mjx_badger.realtime.simulated import SimulatedHB40
+        from mjx_badger.realtime import adapters, figure, loop
 
         config = self.run
-        # A real robot's adapter (interface.Robot) goes here in place of the simulated one.
-        on_robot = config.conditions_spec
-        noise = on_robot.sensing.sensors if on_robot.sensing is not None else sensors.SensorModel()
-        bot = SimulatedHB40(noise=None if self.no_sensor_noise else noise, reset_seconds=self.reset_seconds,
-                            seed=config.seed, spec=config.robot_spec, conditions=on_robot)
+        bot = adapters.make(self.robot_adapter, config, reset_seconds=self.reset_seconds,
+                            sensor_noise=not self.no_sensor_noise)
         try:
             document = loop.run(config, bot, self.out, resume=not self.restart, view=not self.quiet)
         except ValueError as error:  # a saved run of another configuration in the folder
             print(f"error: {error}", file=sys.stderr)
             return 2
         if document["steps"]:
-            path = plots.realtime_figure(document, loop.load_trace(self.out, config), self.out / f"{config.name}.png")
+            path = figure.draw(document, loop.load_trace(self.out, config), self.out / f"{config.name}.png")
             print(f"figure: {path}")
         return 0
 
@@ -572,7 +570,8 @@ class Render(SavedRun):
 
 @dataclasses.dataclass(frozen=True)
 class List:
-    """List approaches, algorithms, tasks, experiments, profiles, protocols, robots and everyone's parameters."""
+    """List approaches, algorithms, tasks, experiments, profiles, protocols, robots, robot adapters and everyone's
+    parameters."""
 
     def check(self) -> None:
         pass
@@ -580,10 +579,11 @@ class List:
     def __call__(self) -> int:
         from mjx_badger import spec, tasks
         from mjx_badger.attribution import SWAPS_BY_NAME
+        from mjx_badger.realtime.adapters import ADAPTERS
 
         for title, names in (("approaches", APPROACHES), ("algorithms", ALGORITHMS), ("tasks", TASKS),
                              ("experiments", EXPERIMENTS), ("profiles", PROFILES), ("protocols", PROTOCOLS),
-                             ("protocol fields", FIELDS), ("robots", ROBOTS),
+                             ("protocol fields", FIELDS), ("robots", ROBOTS), ("robot adapters", ADAPTERS),
                              ("attribution swaps", [f"'{name}'" for name in SWAPS_BY_NAME])):
             print(f"{title}: {', '.join(names)}")
         print("approach parameters: " + "; ".join(f"{name}: {', '.join(a.params)}"

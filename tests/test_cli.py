@@ -64,6 +64,7 @@ def test_list_names_everything(capsys):
     out = capsys.readouterr().out
     assert "jt-oef" in out and "crossq" in out and "forward" in out and "quick" in out
     assert "thesis-code, thesis-text" in out and "termination" in out and "robots: hb40, hb40-v1" in out
+    assert "robot adapters: simulated" in out
 
 
 def test_bad_protocol_names_and_fields_exit_2(capsys):
@@ -139,6 +140,7 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
 
 def test_realtime_refuses_what_a_robot_cannot_run(capsys):
     assert "cpg-rt-avg" in _fails(capsys, ["realtime", "--approach", "cpg-rt"])
+    assert "unknown robot adapter 'hb50'; choose from simulated" in _fails(capsys, ["realtime", "--robot-adapter", "hb50"])
     assert "planned contacts" in _fails(capsys, ["realtime", "--approach", "jt-oef", "--planned-contacts"])
     assert "warmup_steps (200) must be smaller" in _fails(capsys, ["realtime", "--steps", "100", "--warmup-steps", "200"])
     assert "control rate" in _fails(capsys, ["realtime", "--control-hz", "500"])

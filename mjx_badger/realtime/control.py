@@ -46,6 +46,12 @@ def measured_step(sensors: Sensors, prev_gyro: np.ndarray, velocity: np.ndarray)
                     sensors.angular_velocity, prev_gyro, velocity, rotation_matrix(sensors.orientation))
 
 
+def true_velocity(bot: Robot):
+    """The robot's true trunk-frame velocity (3,) for the logs, NaN where it has no ground truth."""
+    truth = bot.truth()
+    return truth["linear_velocity"] if truth is not None else (np.nan,) * 3
+
+
 def observe(env: HB40Env, action_state, command, measured: Measured):
     """The environment's observation of a measured step, gravity projected into the trunk frame as the env does."""
     gravity = measured.rotation.T @ jnp.array([0.0, 0.0, -1.0])
@@ -196,7 +202,7 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
             session.buffer.add(previous[0], previous[1], reward, obs, 0.0 if trip else 1.0)
             progress.step += 1
             session.learner.new_step.set()
-            truth = bot.truth()["linear_velocity"] if hasattr(bot, "truth") else (np.nan,) * 3
+            truth = true_velocity(bot)
             progress.trace[progress.step - 1] = (progress.step, progress.train_seconds + time.perf_counter()
                                                  - episode_start, velocity[0], velocity[1], truth[0], truth[1],
                                                  reward, bool(trip))
@@ -252,7 +258,7 @@ def evaluate(session: Session, evaluate_tick, agent_state, task, key) -> dict:
         bot.command(np.asarray(target), *session.env.spec.pd_gains)
         prev_gyro = sensors.angular_velocity
         estimated.append(velocity[0])
-        true.append(bot.truth()["linear_velocity"][0] if hasattr(bot, "truth") else np.nan)
+        true.append(true_velocity(bot)[0])
         deadline += period
         scheduling.sleep_until(deadline)
     one_second = max(1, int(config.hz))

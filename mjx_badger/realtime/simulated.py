@@ -2,8 +2,8 @@
 
 The physics runs in its own thread, like the robot's own controller, and exposes only what
 the real robot's sensors give, with the noise of the suite's one sensor model (sensors.py,
-read every physics step); `truth()` is for logging and figures and is not part of the
-protocol, so the loop cannot learn from it.
+read every physics step); its `truth()` (the protocol's optional part) is for logging and
+figures, and the loop never learns from it.
 """
 
 import threading
@@ -15,10 +15,10 @@ import numpy as np
 from mjx_badger import mjcf, motors, robot, sensors
 from mjx_badger.conditions import SIM, Conditions
 from mjx_badger.realtime import scheduling
-from mjx_badger.realtime.interface import Sensors
+from mjx_badger.realtime.interface import Robot, Sensors
 
 
-class SimulatedHB40:
+class SimulatedHB40(Robot):
     """The HB40 (or another robot spec) in native MuJoCo with its physics thread; implements `interface.Robot`."""
 
     def __init__(self, noise: sensors.SensorModel | None = sensors.SensorModel(), reset_seconds: float = 2.0, seed: int = 0,
@@ -82,18 +82,18 @@ class SimulatedHB40:
             self._thread.join()
             self._thread = None
 
-    # Simulation only: ground truth for logs, and a hand on the robot for tests.
-    @property
-    def gains(self) -> tuple[float, float]:
-        with self._lock:
-            return self._gains
-
     def truth(self) -> dict:
-        """Trunk-frame linear velocity (3,), world position (3,) and roll, pitch of the simulated trunk."""
+        """Trunk-frame linear velocity (3,), world position (3,) and height of the simulated trunk."""
         with self._lock:
             rot = self.data.xmat[self._trunk].reshape(3, 3)
             return {"linear_velocity": rot.T @ self.data.qvel[:3], "position": self.data.qpos[:3].copy(),
                     "height": float(self.data.qpos[2])}
+
+    # Simulation only: a hand on the robot for tests.
+    @property
+    def gains(self) -> tuple[float, float]:
+        with self._lock:
+            return self._gains
 
     def tip(self, roll: float) -> None:
         """Roll the trunk to `roll` (rad) in place, as a push would."""
