@@ -1,4 +1,5 @@
-"""A newcomer's extensions, registered from this module alone: a filter, an algorithm variant, a task, a robot."""
+"""A newcomer's extensions, registered from this module alone: a filter, an algorithm variant (CrossQ's kind), a
+task, a robot and a parameter experiment."""
 
 import dataclasses
 
@@ -11,7 +12,7 @@ import pytest
 from conftest import seed_keys
 from mjx_badger import actions, analysis, filters, kinematics, mjcf, protocols, robot, tasks
 from mjx_badger.agents import ALGORITHMS
-from mjx_badger.agents.config import Algorithm, crossq
+from mjx_badger.agents.config import Algorithm, crossq, sac
 from mjx_badger.train import TrainConfig, make_train
 
 
@@ -73,6 +74,36 @@ def test_the_low_pass_cutoff_is_a_parameter():
         _, ctrl = space.step(space.init(), jnp.ones(space.size))
         first[cutoff] = float(jnp.abs(ctrl - space.rest_ctrl()).max())
     assert 0 < first[1.0] < first[8.0]
+
+
+def test_a_registered_crossq_variant_gets_the_protocols_crossq_settings(toys, monkeypatch):
+    """Policy delay, renorm warm-up, actor renorm, target entropy and the next-episode bootstrap follow the
+    algorithm's kind (AgentConfig.is_crossq), not its name; a SAC variant gets none of them."""
+    monkeypatch.setitem(ALGORITHMS, "toy-sac", Algorithm(lambda: sac().replace(name="toy-sac"), "Toy SAC", "k"))
+    for protocol in (protocols.THESIS_CODE, protocols.THESIS_TEXT):
+        variant = protocol.agent_config("toy-crossq")
+        assert variant == protocol.agent_config("crossq").replace(name="toy-crossq", hidden=(16, 16))
+        assert (variant.policy_delay, variant.renorm_warmup_steps, variant.actor_batch_renorm) == (
+            protocol.crossq_policy_delay, protocol.crossq_renorm_warmup, protocol.crossq_actor_renorm)
+        assert protocol.bootstraps_from_next_episode("toy-crossq") == protocol.bootstraps_from_next_episode("crossq")
+        assert protocol.agent_config("toy-sac") == protocol.agent_config("sac").replace(name="toy-sac")
+        assert not protocol.bootstraps_from_next_episode("toy-sac")
+    code = protocols.THESIS_CODE.agent_config("toy-crossq")
+    assert code.target_entropy == -6.0 and code.policy_delay == 1 and code.renorm_warmup_steps == 1000
+    assert protocols.THESIS_CODE.bootstraps_from_next_episode("toy-crossq")
+    assert protocols.THESIS_CODE.agent_config("toy-sac").target_entropy is None
+
+
+def test_a_task_that_cannot_take_reward_weights_is_refused_when_the_run_is_built(toys, monkeypatch):
+    """slow-walk's factory has no weights=: a <term>_weight is refused by the spec's check, not by a TypeError
+    when the env is built; a factory with weights=None gets one parameter per reward term."""
+    assert tasks.task_params("slow-walk") == ()
+    with pytest.raises(ValueError, match=r"task 'slow-walk' cannot take reward weights \(energy_weight\)"):
+        TrainConfig(task="slow-walk", task_params=(("energy_weight", 0.0),))
+    monkeypatch.setitem(tasks.TASKS, "slow-walk-weighted",
+                        lambda form, rules, weights=None: tasks.forward(0.2, weights, form=form))
+    config = TrainConfig(task="slow-walk-weighted", task_params=(("energy_weight", 0.0),))
+    assert config.make_task().weights["energy"] == 0.0 and "velocity_weight" in tasks.task_params("slow-walk-weighted")
 
 
 def test_a_kind_outside_jt_and_cpg_is_refused():
