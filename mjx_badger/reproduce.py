@@ -12,7 +12,7 @@ from pathlib import Path
 
 from mjx_badger import safe_io
 from mjx_badger.agents import ALGORITHMS
-from mjx_badger.experiments import EXPERIMENTS, PROFILES, expand, result_name
+from mjx_badger.experiments import EXPERIMENTS, PROFILES, expand
 from mjx_badger.protocols import PROTOCOLS
 
 # Seed-steps (one env step and one update each) per second of CrossQ with JT on the 2-core
@@ -54,7 +54,7 @@ def plan(args, folder: Path, names: tuple) -> list:
     for name in names:
         experiment = EXPERIMENTS[name]
         for run in experiment.runs:
-            path = folder / name / result_name(run)
+            path = folder / name / experiment.result_name(run)
             config = experiment.train_config(run, args.profile, args.protocol)
             if not args.force and same_run(path.parent, config, seeds, path.name):
                 print(f"skip {path}: complete results of this configuration exist (--force reruns)")
@@ -169,8 +169,9 @@ def same_run(folder: Path, config, seeds, pattern: str | None = None):
 
     as_stored = lambda c: json.loads(json.dumps(results.config_dict(c)))  # tuples become lists
     wanted, defaults = as_stored(config), as_stored(TrainConfig())
-    pattern = pattern or f"*/{config.approach}_{config.algo}_{config.task}.json"
-    for path in sorted(folder.glob(pattern)):
+    base = f"{config.approach}_{config.algo}_{config.task}"
+    paths = folder.glob(pattern) if pattern else [*folder.glob(f"*/{base}.json"), *folder.glob(f"*/{base}__*.json")]
+    for path in sorted(paths):
         document = results.read_or_skip(path)
         if document is None:
             continue
