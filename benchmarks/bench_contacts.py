@@ -19,7 +19,7 @@ import mujoco
 import numpy as np
 
 from bench_spine import timed  # the script's own folder is on sys.path
-from mjx_badger import results, robot
+from mjx_badger import mjcf, results, robot
 from mjx_badger.env import HB40Env
 
 with contextlib.redirect_stdout(io.StringIO()):
@@ -84,9 +84,9 @@ def main():
     variants = [("old model: 4 foot pairs, 4 iterations", old_model(), old_nominal)]
     for iterations in (4, 10, 50):
         spec = dataclasses.replace(robot.HB40, solver_iterations=iterations, solver_ls_iterations=min(iterations, 10))
-        variants.append((f"new model: 4 foot pairs, {iterations} iterations", robot.load_model(feet_only(spec)),
+        variants.append((f"new model: 4 foot pairs, {iterations} iterations", mjcf.load_model(feet_only(spec)),
                          robot.nominal_pose()))
-        variants.append((f"new model: 13 floor pairs, {iterations} iterations", robot.load_model(spec),
+        variants.append((f"new model: 13 floor pairs, {iterations} iterations", mjcf.load_model(spec),
                          robot.nominal_pose()))
     for name, model, nominal in variants:
         row = {"variant": name, "contacts": int(model.npair)}

@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from mjx_badger import enable_compilation_cache, plots, results
+from mjx_badger import enable_compilation_cache, results
 from mjx_badger.agents import ALGORITHMS
-from mjx_badger.realtime import loop
+from mjx_badger.realtime import figure, loop
 from mjx_badger.realtime.simulated import SimulatedHB40
 
 OUT = Path(__file__).parent / "results" / "bench_realtime.json"
@@ -145,7 +145,7 @@ def evidence_run(steps: int, seed: int, lock_memory: bool = True) -> dict:
         # The late tick started at unix_time; the stall lay somewhere in the period before it.
         worst["steal_ms"] = _steal_ms(steal, worst["unix_time"] - worst["period_ms"] / 1000 - 0.02,
                                       worst["unix_time"] + 0.02)
-    plots.realtime_figure(document, loop.load_trace(out, config), out / f"{config.name}.png")
+    figure.draw(document, loop.load_trace(out, config), out / f"{config.name}.png")
     rows = document["rows"]
     best = max((r for r in rows if r["true_velocity"] is not None), key=lambda r: r["true_velocity"], default=None)
     summary = {

@@ -1,6 +1,6 @@
 """Seed-steps/s and compile time against the number of vmapped seeds, on this machine.
 
-For each seed count, `runner.measure` compiles a JT-NF CrossQ chunk (thesis-code, 200 learning
+For each seed count, `runner.measure_speed` compiles a JT-NF CrossQ chunk (thesis-code, 200 learning
 steps, updates from the first step) for that many seeds and times one chunk after an untimed
 first one. Writes benchmarks/results/scaling.json and scaling.png. Run on an idle machine:
 `python benchmarks/bench_scaling.py [--seeds 1 2 4 8 16 32 64]`.
@@ -101,7 +101,7 @@ def main():
     args.out = args.out or OUT
     rows = []
     for count in args.seeds:
-        measured = runner.measure(config, list(range(count)))
+        measured = runner.measure_speed(config, list(range(count)))
         rows.append({"seeds": count, **measured})
         print(f"{count:3d} seeds: {measured['seed_steps_per_s']:7.1f} seed-steps/s, compile {measured['compile_s']:.1f} s",
               flush=True)

@@ -16,7 +16,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from mjx_badger import replay, results, robot, runner
+from mjx_badger import mjcf, replay_buffer, results, robot, runner
 from mjx_badger.agents import ALGORITHMS, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
@@ -38,7 +38,7 @@ def timed(fn, *args, repeats=3):
 
 def native_control_steps_per_s(seconds=3.0):
     """Native MuJoCo, one thread: control steps (5 physics steps each) per second."""
-    model = robot.load_model()
+    model = mjcf.load_model()
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
     data.ctrl[:] = robot.nominal_pose()
@@ -74,7 +74,7 @@ def update_program(seeds, algo="crossq", updates=200, cfg=None):
     """
     cfg = ALGORITHMS[algo]() if cfg is None else cfg
     agent = make_agent(cfg, 54, 12)
-    buffer = replay.init(10_000, 54, 12)
+    buffer = replay_buffer.init(10_000, 54, 12)
     buffer = buffer.replace(
         data=Transition(*(jax.random.normal(jax.random.PRNGKey(i), x.shape) for i, x in enumerate(buffer.data))),
         size=jnp.int32(10_000))
@@ -82,7 +82,7 @@ def update_program(seeds, algo="crossq", updates=200, cfg=None):
     def run(key, buffer):
         def body(state, i):
             batch_key, update_key = jax.random.split(jax.random.fold_in(key, i))
-            return agent.update(state, replay.sample(buffer, batch_key, cfg.batch_size), update_key, i)[0], None
+            return agent.update(state, replay_buffer.sample(buffer, batch_key, cfg.batch_size), update_key, i)[0], None
 
         return jax.lax.scan(body, agent.init(key), jnp.arange(updates))[0].log_alpha
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from mjx_badger import actions, protocols, results, robot, tasks
 from mjx_badger.env import EnvConfig, HB40Env, roll_pitch
-from mjx_badger.experiments import APPROACHES
+from mjx_badger.experiments import THESIS_APPROACHES
 
 OUT = Path(__file__).parent / "results" / "warmup_falls.json"
 
@@ -75,7 +75,7 @@ def main():
     args = parser.parse_args()
     table = {}
     for name, protocol in protocols.PROTOCOLS.items():
-        for approach in APPROACHES:
+        for approach in THESIS_APPROACHES:
             # The JT approaches also on this suite's first robot (the CPG's kinematics are the HB40's).
             for spec in (robot.HB40,) if actions.is_cpg(approach) else robot.ROBOTS.values():
                 label = name if spec == robot.HB40 else f"{name} on {spec.name}"

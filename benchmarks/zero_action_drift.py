@@ -16,7 +16,7 @@ import numpy as np
 
 from mjx_badger import protocols, results, tasks
 from mjx_badger.env import EnvConfig, HB40Env
-from mjx_badger.experiments import APPROACHES
+from mjx_badger.experiments import THESIS_APPROACHES
 
 OUT = Path(__file__).parent / "results" / "zero_action_drift.json"
 SETTLE_S, MEASURE_S = 2.0, 8.0
@@ -46,7 +46,7 @@ def omni_reward(velocity: tuple, command: tuple, protocol: protocols.Protocol) -
 def main():
     table = {}
     for name, protocol in protocols.PROTOCOLS.items():
-        for approach in APPROACHES:
+        for approach in THESIS_APPROACHES:
             vx, vy = drift(approach, protocol)
             rewards = {"forward": omni_reward((vx, vy), (0.5, 0.0), protocol),
                        "backward": omni_reward((vx, vy), (-0.5, 0.0), protocol)}

@@ -4,7 +4,7 @@ An action space is `init() -> state`, `step(state, action) -> (state, ctrl)` and
 `observe(state) -> (predicted (12,), extra (k,))`, the approach's own observation blocks
 of thesis Table 4.1. `ctrl` holds one PD target per actuator: 12, or 24 for the
 torque-averaging residual CPG, whose model drives every joint with two half-strength PD
-controllers (robot.load_model(split_pd=True)). The approaches of Table 5.2 are `Approach`
+controllers (mjcf.load_model(split_pd=True)). The approaches of Table 5.2 are `Approach`
 records in `APPROACHES`: what they are (`kind`), how figures show them, how to build them.
 """
 

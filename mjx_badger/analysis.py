@@ -12,13 +12,20 @@ import numpy as np
 from mjx_badger import results
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents.config import ALGORITHMS
-from mjx_badger.experiments import Experiment, result_name
+from mjx_badger.experiments import Experiment
 
 
 def display_name(name: str) -> str:
-    """How figures and tables name an approach or algorithm (their registries), else the name itself."""
+    """How figures and tables name an approach or algorithm (their registries), else the name itself; a
+    parameter experiment's run label ('jt-oef min_cutoff=0.5') keeps its NAME=VALUE words after the registry's."""
     entry = APPROACHES.get(name) or ALGORITHMS.get(name)
-    return name if entry is None else entry.label
+    if entry is not None:
+        return entry.label
+    head, _, params = name.partition(" ")
+    entry = APPROACHES.get(head) or ALGORITHMS.get(head)
+    if entry is not None and params and all("=" in word for word in params.split()):
+        return f"{entry.label} {params}"
+    return name
 
 
 def display_color(name: str) -> str | None:
@@ -161,7 +168,7 @@ def load_experiment(experiment: Experiment, folder: Path) -> dict:
     """Results documents of the experiment's runs found in `folder`, keyed by the compared name, diverged seeds left out."""
     found = {}
     for run in experiment.runs:
-        path = Path(folder) / result_name(run)
+        path = Path(folder) / experiment.result_name(run)
         document = results.read_or_skip(path, leave_out_diverged=True) if path.exists() else None
         if document is not None:
             found[experiment.label(run)] = document

@@ -11,11 +11,8 @@ import contextlib
 import dataclasses
 import io
 import json
-import os
 import re
-import shutil
 import sys
-import time
 from pathlib import Path
 from typing import Annotated, Literal, Optional
 
@@ -25,18 +22,13 @@ from mjx_badger import enable_compilation_cache, safe_io
 from mjx_badger.actions import APPROACHES
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.estimator_commands import Estimator
-from mjx_badger.experiments import EXPERIMENTS, GROUPS, PROFILES, expand, result_name
+from mjx_badger.experiments import EXPERIMENTS, GROUPS, PROFILES, expand
 from mjx_badger.protocols import FIELDS, PROTOCOLS
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.robot import ROBOTS
 from mjx_badger.tasks import TASKS
 from mjx_badger.train import TrainConfig
 from mjx_badger.validation import INT32_MAX, integer, number, writable_dir, writable_file
-
-# Seed-steps (one env step and one update each) per second of CrossQ with JT on the 2-core
-# CPU this suite is developed on (benchmarks/bench_spine.py); only used to print an
-# estimate before a long run starts, counting updates as the cost.
-CPU_SEED_STEPS_PER_S = 174.0
 
 MAX_SEEDS = 1_000_000
 """More seeds than any machine holds; the memory check refuses far fewer on most."""
@@ -55,10 +47,6 @@ def check_seed_devices(seeds: int) -> None:
     from mjx_badger.runner import check_seeds_divide
 
     check_seeds_divide(seeds, jax.device_count())
-
-
-def _progress_bar() -> bool:
-    return sys.stderr.isatty() or os.environ.get("CI") is None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -254,7 +242,9 @@ class Reproduce:
                 memory.check(experiment.train_config(run, self.profile, self.protocol), seeds)
 
     def __call__(self) -> int:
-        return reproduce_command(self)
+        from mjx_badger import reproduce
+
+        return reproduce.command(self)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -331,7 +321,9 @@ class Claims:
             print(claims.scoreboard_text(real, self.profile, name).replace("thesis claims", "real-world findings", 1))
             print()
         if self.markdown:
-            write_scoreboard_markdown(self.markdown, boards, self.results_dir / self.profile)
+            from mjx_badger import reproduce
+
+            reproduce.write_scoreboard_markdown(self.markdown, boards, self.results_dir / self.profile)
         if self.json:
             safe_io.write_text(self.json, json.dumps({name: [v.as_dict() for v in board]
                                                       for name, board in boards.items()}, indent=1))
@@ -414,16 +406,18 @@ class Attribute:
             if path.exists() and (results.read_or_skip(path) or {}).get("complete"):
                 print(f"skip {path}: complete")
                 continue
-            runner.run(config, seeds, path, progress=_progress_bar())
+            runner.run(config, seeds, path, progress=runner.progress_wanted())
         print(attribution.table(self.results_dir))
         return 0
 
 
 @dataclasses.dataclass(frozen=True)
 class Realtime:
-    """Train on one robot at wall-clock rate, learner beside the control loop (a simulated HB40 here)."""
+    """Train on one robot at wall-clock rate, learner beside the control loop (by default a simulated HB40)."""
 
     run: Annotated[RealtimeConfig, Flat] = RealtimeConfig()
+    robot_adapter: str = "simulated"
+    """The robot to train on, by its adapter's name (realtime/adapters.py): 'simulated', the HB40 in native MuJoCo."""
     reset_seconds: float = 2.0
     """Simulated manual reset after a safety stop (not counted as training time)."""
     no_sensor_noise: bool = False
@@ -437,7 +431,9 @@ class Realtime:
 
     def check(self) -> None:
         from mjx_badger import memory
+        from mjx_badger.realtime import adapters
 
+        adapters.check(self.robot_adapter)
         if self.reset_seconds < 0:
             raise ValueError("--reset-seconds must not be negative")
         number("--reset-seconds", self.reset_seconds, 0.0, 3600.0)
@@ -445,24 +441,18 @@ class Realtime:
         memory.check_realtime(self.run)
 
     def __call__(self) -> int:
-        from mjx_badger import plots
-        from mjx_badger.realtime import loop
-        from mjx_badger import sensors
-        from mjx_badger.realtime.simulated import SimulatedHB40
+        from mjx_badger.realtime import adapters, figure, loop
 
         config = self.run
-        # A real robot's adapter (interface.Robot) goes here in place of the simulated one.
-        on_robot = config.conditions_spec
-        noise = on_robot.sensing.sensors if on_robot.sensing is not None else sensors.SensorModel()
-        bot = SimulatedHB40(noise=None if self.no_sensor_noise else noise, reset_seconds=self.reset_seconds,
-                            seed=config.seed, spec=config.robot_spec, conditions=on_robot)
+        bot = adapters.make(self.robot_adapter, config, reset_seconds=self.reset_seconds,
+                            sensor_noise=not self.no_sensor_noise)
         try:
             document = loop.run(config, bot, self.out, resume=not self.restart, view=not self.quiet)
         except ValueError as error:  # a saved run of another configuration in the folder
             print(f"error: {error}", file=sys.stderr)
             return 2
         if document["steps"]:
-            path = plots.realtime_figure(document, loop.load_trace(self.out, config), self.out / f"{config.name}.png")
+            path = figure.draw(document, loop.load_trace(self.out, config), self.out / f"{config.name}.png")
             print(f"figure: {path}")
         return 0
 
@@ -561,10 +551,10 @@ class Render(SavedRun):
         if self.out.suffix.lower() != ".gif":
             raise ValueError(f"--out {self.out.name}: videos are written as .gif (an .mp4 needs ffmpeg, not installed)")
         writable_file(self.out, "--out")
-        from mjx_badger import render, robot
+        from mjx_badger import mjcf, render
 
         try:
-            render.check_gl(robot.load_model())
+            render.check_gl(mjcf.load_model())
         except RuntimeError as error:
             raise ValueError(str(error)) from None
 
@@ -580,7 +570,8 @@ class Render(SavedRun):
 
 @dataclasses.dataclass(frozen=True)
 class List:
-    """List approaches, algorithms, tasks, experiments, profiles, protocols, robots and everyone's parameters."""
+    """List approaches, algorithms, tasks, experiments, profiles, protocols, robots, robot adapters and everyone's
+    parameters."""
 
     def check(self) -> None:
         pass
@@ -588,10 +579,11 @@ class List:
     def __call__(self) -> int:
         from mjx_badger import spec, tasks
         from mjx_badger.attribution import SWAPS_BY_NAME
+        from mjx_badger.realtime.adapters import ADAPTERS
 
         for title, names in (("approaches", APPROACHES), ("algorithms", ALGORITHMS), ("tasks", TASKS),
                              ("experiments", EXPERIMENTS), ("profiles", PROFILES), ("protocols", PROTOCOLS),
-                             ("protocol fields", FIELDS), ("robots", ROBOTS),
+                             ("protocol fields", FIELDS), ("robots", ROBOTS), ("robot adapters", ADAPTERS),
                              ("attribution swaps", [f"'{name}'" for name in SWAPS_BY_NAME])):
             print(f"{title}: {', '.join(names)}")
         print("approach parameters: " + "; ".join(f"{name}: {', '.join(a.params)}"
@@ -653,145 +645,3 @@ def run_safely(command) -> int:
     from mjx_badger import faults
 
     return faults.run(command)
-
-
-def overall_progress(index: int, runs: int, done: float, total: float, left_s: float | None) -> str:
-    """'run i of n, p % of the gradient updates done, ~t left' (eta.py: no ETA before a run has ended)."""
-    line = f"run {index + 1} of {runs}, {100 * done / max(total, 1):.0f} % of the gradient updates done"
-    if left_s is not None:
-        line += f", ~{left_s / 3600:.1f} h left" if left_s >= 3600 else f", ~{left_s / 60:.0f} min left"
-    return line
-
-
-def reproduce_command(args) -> int:
-    """`reproduce`: SIGINT or SIGTERM stop it after the chunk at hand (or between runs), saved, to resume."""
-    from mjx_badger import stops
-
-    with stops.graceful():
-        return _reproduce(args)
-
-
-def _reproduce(args) -> int:
-    from mjx_badger import claims, cluster, eta, plots, results, runner, stops, tensorboard
-
-    profile = PROFILES[args.profile]
-    folder = args.results_dir / args.profile / args.protocol
-    todo = []
-    names = expand(args.experiments)
-    for name in names:
-        experiment = EXPERIMENTS[name]
-        for run in experiment.runs:
-            path = folder / name / result_name(run)
-            config = experiment.train_config(run, args.profile, args.protocol)
-            if not args.force and _same_run(path.parent, config, list(range(profile.seeds)), path.name):
-                print(f"skip {path}: complete results of this configuration exist (--force reruns)")
-                continue
-            todo.append((experiment, run, path))
-    work = [experiment.steps(run, args.profile) * ALGORITHMS[run.algo]().updates_per_step * profile.seeds
-            for experiment, run, _ in todo]
-    updates = sum(work)
-    print(f"profile {args.profile}, protocol {args.protocol}: {len(todo)} runs x {profile.seeds} seeds, {updates:,} gradient updates in all; "
-          f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1-2 min compile per run")
-    if args.profile == "full" and todo:
-        print(measured_estimate(todo, args, profile.seeds), flush=True)
-    configs = [experiment.train_config(run, args.profile, args.protocol) for experiment, run, _ in todo]
-    seeds = list(range(profile.seeds))
-    plans = [eta.planned(config, profile.seeds, copy=config in configs[:i] or _same_run(folder, config, seeds)
-                         is not None) for i, config in enumerate(configs)]
-    started, done = time.perf_counter(), []
-    for index, ((experiment, run, path), config) in enumerate(zip(todo, configs)):
-        if stops.requested():
-            raise stops.Interrupted(stops.requested(), f"stopped by {stops.name(stops.requested())} before run "
-                                    f"{index + 1} of {len(todo)}; the runs done are saved: run the same command "
-                                    "again to go on")
-        print(overall_progress(index, len(todo), sum(work[:index]), updates, eta.seconds_left(plans[index:], done)),
-              flush=True)
-        run_started = time.perf_counter()
-        twin = _same_run(folder, config, seeds)
-        if twin is not None and not args.force:
-            # Experiments share runs (CrossQ JT-NF forward is in two); a run is deterministic per seed.
-            print(f"reuse {twin} for {path}: the same configuration and seeds")
-            done.append(eta.Done(plans[index], 0.0, 0.0))
-            if not cluster.writes():  # another process of a jax.distributed run copies it
-                continue
-            results.write(path, results.read(twin))
-            if tensorboard.folder(twin).is_dir():
-                shutil.copytree(tensorboard.folder(twin), tensorboard.folder(path), dirs_exist_ok=True)
-            continue
-        document = runner.run(config, seeds, path, progress=_progress_bar(), resume=not args.force,
-                              tensorboard=args.tensorboard)
-        # A resumed run trained only part of its work here: its rate is not this machine's.
-        if document and document.get("wall_clock", {}).get("resumed_at_step") is None:
-            train_s = document["wall_clock"].get("run_s", 0.0)
-            done.append(eta.Done(plans[index], train_s, time.perf_counter() - run_started - train_s))
-    if not cluster.writes():  # process 0 of a jax.distributed run draws and scores
-        return 0
-    kept = []
-    for path in plots.draw(folder, args.figures, args.profile, names, args.protocol, kept=kept):
-        print(f"wrote {path}")
-    from mjx_badger import render
-
-    for path in render.draw(folder, args.figures, args.profile, names, args.protocol, kept=kept):
-        print(f"wrote {path} (the best seed's gait, native MuJoCo)")
-    for path, why in kept:
-        print(f"kept {path}: {why}")
-    print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
-    print()
-    boards = {name: claims.score(args.results_dir / args.profile, name) for name in PROTOCOLS}
-    print(claims.scoreboard_text(boards[args.protocol], args.profile, args.protocol))
-    write_scoreboard_markdown(args.figures / f"claims_{args.profile}.md", boards, args.results_dir / args.profile)
-    return 0
-
-
-def measured_estimate(todo: list, args, seeds: int) -> str:
-    """The time the runs in `todo` will take here, from one short timed chunk per algorithm among them."""
-    from mjx_badger import runner
-
-    speed, seconds = {}, 0.0
-    for experiment, run, _ in todo:
-        if run.algo not in speed:
-            print(f"timing a short {run.approach} {run.algo} chunk on this machine ...", flush=True)
-            speed[run.algo] = runner.measure(experiment.train_config(run, args.profile, args.protocol),
-                                             list(range(seeds)))
-        measured = speed[run.algo]
-        seconds += experiment.steps(run, args.profile) * seeds / measured["seed_steps_per_s"] + measured["compile_s"]
-    rates = ", ".join(f"{algo} {m['seed_steps_per_s']:.0f} seed-steps/s" for algo, m in speed.items())
-    return (f"measured here ({rates}; compile {max(m['compile_s'] for m in speed.values()):.0f} s at most): "
-            f"about {seconds / 3600:.1f} h for these {len(todo)} runs")
-
-
-def _same_run(folder: Path, config, seeds, pattern: str | None = None):
-    """A complete results file matching `pattern` under `folder` for exactly this configuration and seeds."""
-    from mjx_badger import results
-
-    from mjx_badger.train import TrainConfig
-
-    as_stored = lambda c: json.loads(json.dumps(results.config_dict(c)))  # tuples become lists
-    wanted, defaults = as_stored(config), as_stored(TrainConfig())
-    pattern = pattern or f"*/{config.approach}_{config.algo}_{config.task}.json"
-    for path in sorted(folder.glob(pattern)):
-        document = results.read_or_skip(path)
-        if document is None:
-            continue
-        # A field added after a file was written counts as its default value.
-        stored = {**{k: defaults[k] for k in wanted if k not in document["config"]}, **document["config"]}
-        if document.get("complete") and stored == wanted and document["seeds"] == seeds:
-            return path
-    return None
-
-
-def write_scoreboard_markdown(path: Path, boards: dict, profile_folder: Path) -> None:
-    """The side-by-side scoreboard docs/results.md quotes, with each protocol's wall time under it."""
-    from mjx_badger import claims, results
-
-    times = "; ".join(f"{name}: {results.wall_time_words(profile_folder / name)}" for name in boards)
-    text = claims.scoreboard_markdown(boards)
-    previous = path.read_text(errors="replace") if path.is_file() else ""
-    text, kept = claims.keep_decided(text, previous)
-    note = f" ({len(kept)} verdicts kept from the scoreboard there before: no results for them now)" if kept else ""
-    safe_io.write_text(path, text + f"\nWall time on this machine: {times}.{note}\n")
-    print(f"wrote {path}")
-    for cell in kept:
-        print(f"kept {cell}: no results for it under {profile_folder}")
-
-

@@ -39,7 +39,7 @@ with contextlib.redirect_stdout(io.StringIO()):
     from brax.envs.base import Env, State
     from mujoco import mjx
 
-from mjx_badger import actions, estimators, protocols, rewards, robot, sensors, tasks, terrain
+from mjx_badger import actions, estimators, mjcf, motors, protocols, rewards, robot, sensors, tasks, terrain
 from mjx_badger.conditions import SIM, Conditions
 from mjx_badger.protocols import Protocol
 from mjx_badger.realtime import safety
@@ -126,16 +126,16 @@ class HB40Env(Env):
         self.conditions = self.config.conditions or SIM
         self.conditions.validate()
         self.ground = self.conditions.ground
-        self.mj_model = robot.load_model(spec, split_pd=self.action_space.split_pd, ground=self.ground)
-        robot.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg))
+        self.mj_model = mjcf.load_model(spec, split_pd=self.action_space.split_pd, ground=self.ground)
+        motors.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg), split_pd=self.action_space.split_pd)
         # Under jax.distributed, on this process's own device: mjx's default, jax.devices()[0], is process 0's.
         local = jax.local_devices()[0] if jax.process_count() > 1 else None
         self.mjx_model = mjx.put_model(self.mj_model, device=local)
         self._kp, self._kd = self.protocol.pd_gains(self.is_cpg)
         self._trunk = self.mj_model.body("trunk").id
         self._feet = np.array([self.mj_model.geom(name).id for name in spec.foot_geoms])
-        self._accel = robot.sensor_slice(self.mj_model, "accelerometer")
-        self._gyro = robot.sensor_slice(self.mj_model, "gyro")
+        self._accel = mjcf.sensor_slice(self.mj_model, "accelerometer")
+        self._gyro = mjcf.sensor_slice(self.mj_model, "gyro")
         self.sensing = self.config.sensing or self.conditions.sensing
         # Only what the conditions change enters the program: under `sim` it is the one it always was.
         self._varies_friction = self.ground.friction != (spec.friction, spec.friction)
@@ -255,7 +255,7 @@ class HB40Env(Env):
         return self._kp * (ctrl[:12] - qpos[7:]) - self._kd * qvel[6:]
 
     def end_step(self, state: State, data, action_state, target, torque, key: jax.Array, acceleration=None) -> State:
-        """A control step after its physics, before any reset: observe, score, count and end episodes.
+        """A control step after its physics, before any reset: observe, score, terminate, count and report.
 
         `data` is the mjx.Data, or native MuJoCo's view of the same fields (native.py); `acceleration` the
         accelerometer's mean over the step's physics (only read when the env senses)."""
@@ -263,7 +263,37 @@ class HB40Env(Env):
         senses = self._sense(info, data, acceleration, key) if self.sensing is not None else {}
         command = info["command"]
         obs, motion = self._observe(data, action_state, command, info["prev_gyro"], torque, senses)
-        # On the robot the reward and the curriculum see only the estimate (§5.2); the metrics keep the truth.
+        obs, reward, contributions, sensed, finite = self._score(obs, motion, senses, command)
+        task_state = self.task.update(info["task_state"], command, sensed)
+        power_steps = self._power_steps(info, data, torque)
+        fallen, terminated, truncated = self._terminate(info, data, motion, senses, power_steps, finite)
+        done = terminated | truncated
+        metrics = self._metrics(state.metrics, data, motion, command, contributions, task_state, senses)
+        info = dict(
+            info,
+            rng=key,
+            action_state=action_state,
+            target=target,
+            prev_gyro=senses["reading"].angular_velocity if senses else data.sensordata[self._gyro],
+            power_steps=power_steps,
+            step=info["step"] + 1,
+            task_state=task_state,
+            falls=info["falls"] + (terminated & finite).astype(jnp.int32),
+            # A would-be fall is counted when the rule starts firing, not for every step it keeps firing.
+            would_falls=info["would_falls"] + (fallen & ~info["fallen"]).astype(jnp.int32),
+            fallen=fallen & ~done,
+            blowups=info["blowups"] + (~finite).astype(jnp.int32),
+            blew_up=~finite,
+            terminated=terminated,
+            truncated=truncated,
+            next_obs=obs,
+            **senses,
+        )
+        return State(data, obs, reward, done.astype(jnp.float32), metrics, info)
+
+    def _score(self, obs, motion, senses: dict, command):
+        """The reward and its terms, the observation and reward cleaned of a blow-up's NaNs, the motion the task
+        sees (on the robot the estimate, §5.2; the metrics keep the truth) and whether the step stayed finite."""
         sensed = motion._replace(linear_velocity=senses["estimate"]) if self.conditions.estimate_in_loop else motion
         reward, contributions = self.task.reward(sensed, command)
         # A physics blow-up (non-finite state) ends the episode under any protocol, and its NaNs must
@@ -271,24 +301,30 @@ class HB40Env(Env):
         # discount 0. It is stored as zeros and counted in `blowups`.
         finite = jnp.all(jnp.isfinite(obs)) & jnp.isfinite(reward)
         obs, reward = jnp.where(finite, obs, 0.0), jnp.where(finite, reward, 0.0)
-        task_state = self.task.update(info["task_state"], command, sensed)
+        return obs, reward, contributions, sensed, finite
 
-        power_steps = jnp.where(jnp.sum(jnp.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W,
-                                info["power_steps"] + 1, 0)
-        # The rule on a finite state only: a blow-up is counted in `blowups`, not as a (would-be) fall.
+    def _power_steps(self, info: dict, data, torque):
+        """Consecutive steps the motors' power has been past the released code's limit (its fall rule counts them)."""
+        return jnp.where(jnp.sum(jnp.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W, info["power_steps"] + 1, 0)
+
+    def _terminate(self, info: dict, data, motion, senses: dict, power_steps, finite):
+        """(fallen, terminated, truncated): the fall rule on a finite state (a blow-up is counted in `blowups`, not
+        as a (would-be) fall), whether the episode ends on it or a blow-up, and whether its time is up."""
         if self.conditions.safety_stop:  # the robot's own stop on its own readings, in place of the protocol's rule
             fallen = self._safety_stop(senses["reading"] if senses else None, data) & finite
             terminated = fallen | ~finite
         else:
             fallen = self._fall_rule(data, motion, power_steps) & finite
             terminated = (fallen if self.terminates else jnp.bool_(False)) | ~finite
-        step = info["step"] + 1
-        truncated = (step >= self.episode_steps) & ~terminated
-        done = terminated | truncated
+        truncated = (info["step"] + 1 >= self.episode_steps) & ~terminated
+        return fallen, terminated, truncated
 
+    def _metrics(self, metrics: dict, data, motion, command, contributions: dict, task_state, senses: dict) -> dict:
+        """The step's metrics (`_metric_names`): reward terms, true motion, the task's progress and, where the env
+        senses, the estimate's. Keys a wrapper added (brax's evaluator adds `reward`) are kept: a scan's carry
+        keeps its structure."""
         along, lateral = rewards.along_and_lateral(motion.linear_velocity[:2], command[:2])
-        # Keys a wrapper added (brax's evaluator adds `reward`) are kept: a scan's carry keeps its structure.
-        metrics = dict(state.metrics, **{f"reward/{name}": value for name, value in contributions.items()})
+        metrics = dict(metrics, **{f"reward/{name}": value for name, value in contributions.items()})
         metrics.update(
             forward_velocity=motion.linear_velocity[0],
             lateral_velocity=motion.linear_velocity[1],
@@ -303,27 +339,7 @@ class HB40Env(Env):
             metrics.update(estimated_forward_velocity=senses["estimate"][0],
                            estimated_lateral_velocity=senses["estimate"][1],
                            estimated_desired_velocity=rewards.along_and_lateral(senses["estimate"][:2], command[:2])[0])
-        info = dict(
-            info,
-            rng=key,
-            action_state=action_state,
-            target=target,
-            prev_gyro=senses["reading"].angular_velocity if senses else data.sensordata[self._gyro],
-            power_steps=power_steps,
-            step=step,
-            task_state=task_state,
-            falls=info["falls"] + (terminated & finite).astype(jnp.int32),
-            # A would-be fall is counted when the rule starts firing, not for every step it keeps firing.
-            would_falls=info["would_falls"] + (fallen & ~info["fallen"]).astype(jnp.int32),
-            fallen=fallen & ~done,
-            blowups=info["blowups"] + (~finite).astype(jnp.int32),
-            blew_up=~finite,
-            terminated=terminated,
-            truncated=truncated,
-            next_obs=obs,
-            **senses,
-        )
-        return State(data, obs, reward, done.astype(jnp.float32), metrics, info)
+        return metrics
 
     def _sense(self, info: dict, data, acceleration, key) -> dict:
         """The sensors' reading of this step and the estimator's velocity from it (trunk frame).

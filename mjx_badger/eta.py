@@ -75,7 +75,7 @@ def replay(runs: list[tuple[Planned, tuple[float, float]]]) -> list[tuple[float,
 def profile_plan(profile: str) -> list[tuple[str, Planned, int]]:
     """(experiment/file, planned, gradient updates) of every run `reproduce --profile` makes, in its order;
     a run repeating an earlier one's configuration is a copy."""
-    from mjx_badger.experiments import EXPERIMENTS, GROUPS, PROFILES, result_name
+    from mjx_badger.experiments import EXPERIMENTS, GROUPS, PROFILES
 
     plans, seen, seeds = [], [], PROFILES[profile].seeds
     for name in GROUPS["simulation"]:
@@ -83,6 +83,6 @@ def profile_plan(profile: str) -> list[tuple[str, Planned, int]]:
         for run in experiment.runs:
             config = experiment.train_config(run, profile)
             updates = config.total_steps * config.agent_config.updates_per_step * seeds
-            plans.append((f"{name}/{result_name(run)}", planned(config, seeds, config in seen), updates))
+            plans.append((f"{name}/{experiment.result_name(run)}", planned(config, seeds, config in seen), updates))
             seen.append(config)
     return plans

@@ -1,6 +1,12 @@
-"""Registry of the thesis experiments and the profiles they run at."""
+"""Registry of the thesis experiments and the profiles they run at.
+
+An experiment compares runs: approaches, algorithms, or values of a parameter (an approach's, an algorithm's or a
+task's). The parameters whose values differ among its runs name each run in figures and tables and in its
+results file's name; those its runs share do neither.
+"""
 
 import dataclasses
+import re
 
 from mjx_badger.train import TrainConfig
 
@@ -33,6 +39,21 @@ class Run:
     task: str
     task_params: tuple = ()
     """The task's keyword parameters, ((name, value), ...), e.g. the target velocity."""
+    approach_params: tuple = ()
+    """The approach's keyword parameters, e.g. (("min_cutoff", 0.5),) for jt-oef."""
+    algo_params: tuple = ()
+    """AgentConfig fields set on the protocol's configuration of `algo`, e.g. (("learning_rate", 0.001),)."""
+
+    @property
+    def params(self) -> dict:
+        """Every parameter the run sets, keyed by (group, name): group 'approach_params', 'algo_params' or
+        'task_params' (a sweep's names)."""
+        return {(group, name): value for group in PARAM_GROUPS for name, value in getattr(self, group)}
+
+
+PARAM_GROUPS = ("approach_params", "algo_params", "task_params")
+_UNSET = object()
+"""A parameter a run leaves at its default, told apart from any value it could be set to."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -69,10 +90,27 @@ class Experiment:
 
     def label(self, run: Run) -> str:
         """The name a run goes by in figures and tables: its approach or algorithm, or (compares 'label') the
-        approach with the algorithm named where it is not CrossQ."""
+        approach with the algorithm named where it is not CrossQ; then NAME=VALUE of each parameter that differs
+        among the experiment's runs (e.g. 'jt-oef min_cutoff=0.5')."""
         if self.compares == "label":
-            return run.approach if run.algo == "crossq" else f"{run.approach} {run.algo}"
-        return getattr(run, self.compares)
+            base = run.approach if run.algo == "crossq" else f"{run.approach} {run.algo}"
+        else:
+            base = getattr(run, self.compares)
+        return " ".join([base, *(f"{name}={value}" for name, value in self.differing(run))])
+
+    def varying(self) -> tuple:
+        """(group, name) of every parameter whose value differs among the runs (a default counts as a value)."""
+        keys = list(dict.fromkeys(key for run in self.runs for key in run.params))
+        return tuple(key for key in keys if len({run.params.get(key, _UNSET) for run in self.runs}) > 1)
+
+    def differing(self, run: Run) -> tuple:
+        """(name, value) of the varying parameters `run` sets."""
+        params = run.params
+        return tuple((key[1], params[key]) for key in self.varying() if key in params)
+
+    def result_name(self, run: Run) -> str:
+        """File name of a run's results within the experiment's folder (module-level `result_name`)."""
+        return result_name(run, self.differing(run))
 
     def steps(self, run: Run, profile_name: str) -> int:
         steps = PROFILES[profile_name].steps
@@ -84,12 +122,13 @@ class Experiment:
                      protocol_changes: tuple = ()) -> TrainConfig:
         profile = PROFILES[profile_name]
         return TrainConfig(approach=run.approach, algo=run.algo, task=run.task, task_params=run.task_params,
+                           approach_params=run.approach_params, algo_params=run.algo_params,
                            total_steps=self.steps(run, profile_name), chunk_steps=profile.chunk_steps,
                            warmup_steps=profile.warmup_steps, eval_steps=profile.eval_steps, protocol=protocol,
                            protocol_changes=protocol_changes, conditions=self.conditions)
 
 
-APPROACHES = ("jt-nf", "jt-lpf", "jt-oef", "cpg-d", "cpg-vf", "cpg-rt")
+THESIS_APPROACHES = ("jt-nf", "jt-lpf", "jt-oef", "cpg-d", "cpg-vf", "cpg-rt")
 """The six approaches of thesis Table 5.2 (the residual-combination variants are options, not experiments)."""
 
 EXPERIMENTS = {
@@ -117,7 +156,7 @@ EXPERIMENTS = {
     "forward": Experiment(
         name="forward",
         thesis_figure="Figs 5.3-5.5",
-        runs=tuple(Run(a, "crossq", "forward") for a in APPROACHES),
+        runs=tuple(Run(a, "crossq", "forward") for a in THESIS_APPROACHES),
         # Thesis §5.1.2: steps to converge to 0.5 m/s ("more than 10k" for CPG-RT), mean falls over
         # 50k steps, gait frequency after training.
         thesis_numbers={
@@ -132,7 +171,7 @@ EXPERIMENTS = {
     "forward-max": Experiment(
         name="forward-max",
         thesis_figure="Figs 5.6-5.8, Tables 6.1/6.2",
-        runs=tuple(Run(a, "crossq", "forward-max") for a in APPROACHES),
+        runs=tuple(Run(a, "crossq", "forward-max") for a in THESIS_APPROACHES),
         # Thesis §5.1.3 and Tables 6.1/6.2 (simulation column): maximal forward velocity (m/s),
         # mean falls over 50k steps, gait frequency.
         thesis_numbers={
@@ -150,7 +189,7 @@ EXPERIMENTS = {
     "omni-random": Experiment(
         name="omni-random",
         thesis_figure="Figs 5.9-5.11",
-        runs=tuple(Run(a, "crossq", "omni-random") for a in APPROACHES),
+        runs=tuple(Run(a, "crossq", "omni-random") for a in THESIS_APPROACHES),
         # Thesis §5.1.4: JT approaches ~30 falls and stand still; CPG approaches never fall, CPG-VF
         # best (reaches the target forward and backward, yaw within +-0.2 rad/s).
         thesis_numbers={
@@ -267,6 +306,13 @@ def expand(names) -> tuple:
     return tuple(out)
 
 
-def result_name(run: Run) -> str:
-    """File name of a run's results within its experiment's folder."""
-    return f"{run.approach}_{run.algo}_{run.task}.json"
+def result_name(run: Run, differing: tuple = ()) -> str:
+    """File name of a run's results within its experiment's folder: approach_algo_task, then __NAME=VALUE of each
+    parameter its experiment varies (`Experiment.differing`), so runs that differ only there do not share a file."""
+    suffix = "".join(f"__{name}={_file_word(value)}" for name, value in differing)
+    return f"{run.approach}_{run.algo}_{run.task}{suffix}.json"
+
+
+def _file_word(value) -> str:
+    """A parameter value as a file name's word: runs of anything but letters, digits, '.', '+' and '-' become '-'."""
+    return re.sub(r"[^\w.+-]+", "-", str(value)).strip("-")

@@ -18,7 +18,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from mjx_badger import analysis, robot
+from mjx_badger import analysis, mjcf, robot
 from mjx_badger.env import CONTACT_TOLERANCE_M, HB40Env
 
 
@@ -105,7 +105,7 @@ class NativeEnv:
         self.data = mujoco.MjData(self.model)
         self._reset, self._begin, self._end = jax.jit(env.reset), jax.jit(env.begin_step), jax.jit(env.end_step)
         self._feet = np.array([self.model.geom(name).id for name in env.spec.foot_geoms])
-        self._accelerometer = robot.sensor_slice(self.model, "accelerometer")
+        self._accelerometer = mjcf.sensor_slice(self.model, "accelerometer")
         self.state, self.reset_key, self.contacts = None, None, None
 
     def reset(self, key: jax.Array, command=None, task_state=None):

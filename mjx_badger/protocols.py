@@ -102,17 +102,21 @@ class Protocol:
         return fixed if fixed is not None else ALGORITHMS[algo]().control_hz
 
     def bootstraps_from_next_episode(self, algo: str) -> bool:
-        """Whether a time-out's next state is the next episode's start (the released CrossQ only)."""
-        return self.truncation_bootstraps_from == "next-episode" and algo == "crossq"
+        """Whether a time-out's next state is the next episode's start (the released CrossQ only: any registered
+        algorithm of CrossQ's kind, AgentConfig.is_crossq)."""
+        return self.truncation_bootstraps_from == "next-episode" and ALGORITHMS[algo]().is_crossq
 
     def agent_config(self, algo: str) -> AgentConfig:
-        """The algorithm's configuration under this protocol."""
-        config = ALGORITHMS[algo]().replace(log_std_clip=self.log_std_bounds == "clip")
+        """The algorithm's configuration under this protocol; the crossq_* settings and the target entropy go to
+        every algorithm of CrossQ's kind (AgentConfig.is_crossq), not to a name."""
+        config = ALGORITHMS[algo]()
+        crossq = config.is_crossq
+        config = config.replace(log_std_clip=self.log_std_bounds == "clip")
         if self.temperature == "thesis-code":
             config = config.replace(alpha_loss_scaled=True, alpha_adam_b1=0.9)
-        if self.target_entropy is not None and algo == "crossq":
+        if self.target_entropy is not None and crossq:
             config = config.replace(target_entropy=self.target_entropy)
-        if algo == "crossq":
+        if crossq:
             return config.replace(policy_delay=self.crossq_policy_delay, renorm_warmup_steps=self.crossq_renorm_warmup,
                                   actor_batch_renorm=self.crossq_actor_renorm)
         if self.utd_actor_updates is not None and config.updates_per_step > 1:

@@ -14,7 +14,7 @@ from typing import Callable
 import mujoco
 import numpy as np
 
-from mjx_badger import native, robot, safe_io, terrain
+from mjx_badger import mjcf, native, safe_io, terrain
 
 SCENERY = """<asset>
     <texture name="grid" type="2d" builtin="checker" rgb1="0.78 0.8 0.82" rgb2="0.62 0.65 0.68" width="256" height="256"/>
@@ -38,7 +38,7 @@ def check_gl(model: mujoco.MjModel) -> None:
 
 def scenery_model(env) -> mujoco.MjModel:
     """The env's model with SCENERY: the same bodies and joints, so the env's MjData renders in it."""
-    xml = robot.mjcf(env.spec, env.action_space.split_pd, env.ground).replace("<worldbody>", SCENERY, 1)
+    xml = mjcf.mjcf(env.spec, env.action_space.split_pd, env.ground).replace("<worldbody>", SCENERY, 1)
     line = next((l for l in xml.splitlines() if '<geom name="floor"' in l), None)
     assert line is not None, "the floor geom's declaration changed; update render.scenery_model"
     if env.ground.terrain == "flat":  # the stones keep their own colour
@@ -112,11 +112,11 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names, protocol: st
 
     A GIF drawn before from more complete runs than there are now is kept (noted in `kept`; drawn.py).
     """
-    from mjx_badger import analysis, drawn, policy, results, robot
+    from mjx_badger import analysis, drawn, policy, results
     from mjx_badger.experiments import EXPERIMENTS
 
     try:
-        check_gl(robot.load_model())
+        check_gl(mjcf.load_model())
     except RuntimeError as error:
         print(f"no videos: {error}")
         return []

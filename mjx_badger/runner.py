@@ -5,6 +5,7 @@ import contextlib
 import dataclasses
 import shutil
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -136,7 +137,7 @@ def _sharded(parts: list, sharding: NamedSharding):
     return jax.tree.map(join, *parts)
 
 
-def measure(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
+def measure_speed(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
     """This machine's speed for `config`: a chunk of `steps` learning steps (updates from the first), timed
     after a first one; seed-steps/s and compile seconds (of the short program: a real run's is close)."""
     carry, chunk, compile_s = compiled(make_train(short_run(config, steps)), seeds)
@@ -163,6 +164,11 @@ class Member(NamedTuple):
     seeds: list
     out_path: Path
     env: object
+
+
+def progress_wanted() -> bool:
+    """Whether a command shows the progress bar: on a terminal, or anywhere but a CI job."""
+    return sys.stderr.isatty() or os.environ.get("CI") is None
 
 
 def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True, resume: bool = True,

@@ -8,7 +8,7 @@ registry and every parameter against what its owner takes, and names the valid c
 
 import dataclasses
 
-from mjx_badger import actions, protocols, robot, tasks, validation
+from mjx_badger import actions, mjcf, protocols, robot, tasks, validation
 from mjx_badger import conditions as on_robot
 from mjx_badger.agents import ALGORITHMS, AgentConfig
 from mjx_badger.options import pairs
@@ -76,7 +76,7 @@ class RunSpec:
         self.protocol_spec  # unknown protocol fields raise here
         ground = self.conditions_spec.ground  # unknown or invalid condition fields raise here
         if ground.terrain != "flat":  # and parts MJX cannot collide with a height field here (a model, no compile)
-            robot.load_model(self.robot_spec, ground=ground)
+            mjcf.load_model(self.robot_spec, ground=ground)
         actions.check_params(self.approach, dict(self.approach_params))
         actions.check_robot(self.approach, self.robot_spec, self.protocol_spec)
         tasks.check_params(self.task, dict(self.task_params), self.protocol_spec.rewards)

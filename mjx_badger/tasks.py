@@ -182,17 +182,31 @@ WEIGHT_SUFFIX = "_weight"
 """A task parameter <term>_weight sets the weight of one reward term (e.g. energy_weight=0)."""
 
 
+def takes_weights(name: str) -> bool:
+    """Whether the task `name`'s factory takes `weights=` (or any keyword), so its reward weights can be set."""
+    parameters = inspect.signature(TASKS[name]).parameters.values()
+    return any(p.name == "weights" or p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters)
+
+
 def task_params(name: str, form: str = "thesis-text") -> tuple:
-    """The keyword parameters the task `name` takes under a reward form: its own, then one <term>_weight per term."""
+    """The keyword parameters the task `name` takes under a reward form: its own, then one <term>_weight per term
+    where its factory takes `weights`."""
     own = tuple(p for p in tuple(inspect.signature(TASKS[name]).parameters)[2:] if p != "weights")
+    if not takes_weights(name):
+        return own
     return own + tuple(f"{term}{WEIGHT_SUFFIX}" for term in TASKS[name](form, None).weights)
 
 
 def check_params(name: str, params: dict, form: str = "thesis-text"):
     """Raise ValueError for a parameter the task does not take under `form`, naming the ones it does."""
     unknown = sorted(set(params) - set(task_params(name, form)))
-    if unknown:
-        raise ValueError(f"task {name!r} takes {', '.join(task_params(name, form))}, not {', '.join(unknown)}")
+    if not unknown:
+        return
+    if any(p.endswith(WEIGHT_SUFFIX) for p in unknown) and not takes_weights(name):
+        raise ValueError(f"task {name!r} cannot take reward weights ({', '.join(unknown)}): its factory has no "
+                         "weights=None parameter")
+    raise ValueError(f"task {name!r} takes {', '.join(task_params(name, form)) or 'no parameters'}, "
+                     f"not {', '.join(unknown)}")
 
 
 def make_task(name: str, form: str = "thesis-text", curriculum_rules: str | None = None, **params) -> Task:

@@ -15,7 +15,7 @@ import jax.numpy as jnp
 import tyro
 from flax import struct
 
-from mjx_badger import actions, evaluation, replay, tasks, validation
+from mjx_badger import actions, evaluation, replay_buffer, tasks, validation
 from mjx_badger.agents import AgentConfig, AgentState, make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env
@@ -97,7 +97,7 @@ class Carry(struct.PyTreeNode):
 
     env_state: object
     agent_state: AgentState
-    buffer: replay.ReplayBuffer
+    buffer: replay_buffer.ReplayBuffer
     key: jax.Array
     eval_key: jax.Array
     episode_return: jnp.ndarray
@@ -134,7 +134,7 @@ def make_train(config: TrainConfig) -> Trainer:
         return Carry(
             env_state=env.reset(env_key),
             agent_state=agent.init(agent_key),
-            buffer=replay.init(capacity, env.observation_size, env.action_size),
+            buffer=replay_buffer.init(capacity, env.observation_size, env.action_size),
             key=key,
             eval_key=eval_key,
             episode_return=jnp.float32(0.0),
@@ -147,7 +147,7 @@ def make_train(config: TrainConfig) -> Trainer:
 
         def one_update(agent_state, j):
             batch_key, update_key = jax.random.split(jax.random.fold_in(key, j))
-            batch = replay.sample(buffer, batch_key, cfg.batch_size)
+            batch = replay_buffer.sample(buffer, batch_key, cfg.batch_size)
             index = (step - config.warmup_steps) * cfg.updates_per_step + j
             return agent.update(agent_state, batch, update_key, index)
 
@@ -175,7 +175,7 @@ def make_train(config: TrainConfig) -> Trainer:
             # The released replay's next state is the following row: at a time-out, the next episode's start.
             next_obs = jnp.where(info["truncated"], env_state.obs, next_obs)
         transition = Transition(obs, action, env_state.reward, next_obs, 1.0 - info["terminated"].astype(jnp.float32))
-        buffer = replay.add(carry.buffer, transition)
+        buffer = replay_buffer.add(carry.buffer, transition)
         agent_state, learn_metrics = jax.lax.cond(step >= config.warmup_steps, learn, skip_learning,
                                                   carry.agent_state, buffer, learn_key, step)
         episode_return = carry.episode_return + env_state.reward

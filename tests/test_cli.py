@@ -64,6 +64,7 @@ def test_list_names_everything(capsys):
     out = capsys.readouterr().out
     assert "jt-oef" in out and "crossq" in out and "forward" in out and "quick" in out
     assert "thesis-code, thesis-text" in out and "termination" in out and "robots: hb40, hb40-v1" in out
+    assert "robot adapters: simulated" in out
 
 
 def test_bad_protocol_names_and_fields_exit_2(capsys):
@@ -93,16 +94,16 @@ def test_claims_without_results_prints_both_empty_scoreboards(capsys, tmp_path):
 
 def test_a_run_shared_by_two_experiments_is_found_and_reused(tmp_path):
     from mjx_badger import results
-    from mjx_badger.cli import _same_run
+    from mjx_badger.reproduce import same_run
     from mjx_badger.experiments import EXPERIMENTS
 
     config = EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "smoke")
     path = tmp_path / "algo-comparison" / "jt-nf_crossq_forward.json"
     results.write(path, {"schema": results.SCHEMA, "config": results.config_dict(config), "seeds": [0, 1],
                          "complete": True})
-    assert _same_run(tmp_path, config, [0, 1]) == path
-    assert _same_run(tmp_path, config, [0, 1, 2]) is None
-    assert _same_run(tmp_path, EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "quick"),
+    assert same_run(tmp_path, config, [0, 1]) == path
+    assert same_run(tmp_path, config, [0, 1, 2]) is None
+    assert same_run(tmp_path, EXPERIMENTS["forward"].train_config(EXPERIMENTS["forward"].runs[0], "quick"),
                      [0, 1]) is None
 
 
@@ -139,13 +140,14 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
 
 def test_realtime_refuses_what_a_robot_cannot_run(capsys):
     assert "cpg-rt-avg" in _fails(capsys, ["realtime", "--approach", "cpg-rt"])
+    assert "unknown robot adapter 'hb50'; choose from simulated" in _fails(capsys, ["realtime", "--robot-adapter", "hb50"])
     assert "planned contacts" in _fails(capsys, ["realtime", "--approach", "jt-oef", "--planned-contacts"])
     assert "warmup_steps (200) must be smaller" in _fails(capsys, ["realtime", "--steps", "100", "--warmup-steps", "200"])
     assert "control rate" in _fails(capsys, ["realtime", "--control-hz", "500"])
 
 
 def test_reproduce_reports_overall_progress_with_an_eta_once_a_run_has_ended():
-    from mjx_badger.cli import overall_progress
+    from mjx_badger.reproduce import overall_progress
 
     assert overall_progress(0, 4, 0, 100, None) == "run 1 of 4, 0 % of the gradient updates done"
     assert overall_progress(1, 4, 25, 100, 5400.0).endswith("25 % of the gradient updates done, ~1.5 h left")

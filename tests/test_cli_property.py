@@ -24,6 +24,7 @@ from mjx_badger.agents import ALGORITHMS
 from mjx_badger.conditions import CONDITIONS
 from mjx_badger.experiments import EXPERIMENTS, GROUPS, PROFILES
 from mjx_badger.protocols import PROTOCOLS
+from mjx_badger.realtime.adapters import ADAPTERS
 from mjx_badger.robot import ROBOTS
 from mjx_badger.tasks import TASKS
 
@@ -48,6 +49,7 @@ OPTIONS = {
     "--task": list(TASKS) + ["backflip"],
     "--protocol": list(PROTOCOLS) + ["thesis-paper"],
     "--robot": list(ROBOTS) + ["hb40-v2"],
+    "--robot-adapter": list(ADAPTERS) + ["hb50"],
     "--profile": list(PROFILES) + ["huge"],
     "--experiments": list(EXPERIMENTS) + list(GROUPS) + ["everything"],
     "--conditions": list(CONDITIONS) + ["moon"],
@@ -95,8 +97,8 @@ COMMANDS = {
     "attribute": ["--results-dir", "--only"],
     "realtime": RUN + ["--target-velocity", "--steps", "--warmup-steps", "--control-hz", "--episode-seconds",
                        "--planned-contacts", "--updates-per-step", "--unthrottled", "--eval-seconds", "--seed",
-                       "--init-from", "--init-seed", "--reset-seconds", "--no-sensor-noise", "--out", "--restart",
-                       "--quiet"],
+                       "--init-from", "--init-seed", "--robot-adapter", "--reset-seconds", "--no-sensor-noise", "--out",
+                       "--restart", "--quiet"],
     "evaluate": ["--seed", "--command", "--seconds", "--engine", "--json"],
     "render": ["--seed", "--command", "--seconds", "--out"],
     "estimator collect": ["--results", "--steps", "--envs", "--task", "--action-noise", "--seed", "--out"],

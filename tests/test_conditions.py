@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from mujoco import mjx
 
-from mjx_badger import conditions, robot, tasks, terrain
+from mjx_badger import conditions, mjcf, robot, tasks, terrain
 from mjx_badger.env import EnvConfig, HB40Env
 from mjx_badger.train import TrainConfig
 
@@ -63,7 +63,7 @@ def test_the_robots_own_stop_ends_the_episode_as_a_fall(office):
 
 def test_the_feet_stand_on_the_cobblestones_and_the_incline_tilts_the_ground():
     ground = conditions.OUTDOOR.ground
-    model = robot.load_model(ground=ground)
+    model = mjcf.load_model(ground=ground)
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
     data.ctrl[:] = robot.nominal_pose()
@@ -79,7 +79,7 @@ def test_the_feet_stand_on_the_cobblestones_and_the_incline_tilts_the_ground():
     heights = terrain.cobblestones(ground)
     assert heights.min() == 0.0 and 0.7 < heights.max() <= 1.0  # joints at 0, crowns 75-100 % of the relief
     # On a level plane the same robot settles lower at x = 2 m than on the slope there (2 tan 3 deg = 0.105 m).
-    sloped = robot.load_model(ground=conditions.Ground(incline_deg=3.0))
+    sloped = mjcf.load_model(ground=conditions.Ground(incline_deg=3.0))
     data = mujoco.MjData(sloped)
     data.qpos[:] = robot.standing_qpos(sloped)
     data.qpos[0], data.qpos[2] = 2.0, robot.HB40.home_height + 2 * math.tan(math.radians(3))
@@ -101,7 +101,7 @@ def test_friction_is_drawn_per_episode_within_its_range_and_reaches_the_physics(
 
 def test_mjx_and_native_mujoco_agree_on_the_cobblestones():
     """Half a second of the robot dropped onto the stones under a joint-target wave, both engines."""
-    model = robot.load_model(ground=conditions.OUTDOOR.ground)
+    model = mjcf.load_model(ground=conditions.OUTDOOR.ground)
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
     data.qpos[:2] = [0.31, -0.17]  # off the grid's symmetry lines

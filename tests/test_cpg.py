@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjx_badger import actions, cpg, kinematics, protocols, robot
+from mjx_badger import actions, cpg, kinematics, mjcf, motors, protocols, robot
 
 TEXT = protocols.THESIS_TEXT
 CODE = protocols.THESIS_CODE
@@ -140,10 +140,10 @@ def test_residual_combinations():
 
 def test_split_pd_model_averages_two_clipped_pd_torques():
     """Two actuators per joint at half gains and half limit: the joint torque is the mean of two PD torques."""
-    model = robot.load_model(split_pd=True)
+    model = mjcf.load_model(split_pd=True)
     assert model.nu == 24
     data = mujoco.MjData(model)
-    robot.set_pd_gains(model, 60.0, 3.0)
+    motors.set_pd_gains(model, 60.0, 3.0, split_pd=True)
     data.qpos[:] = robot.standing_qpos(model)
     first = robot.nominal_pose() + 0.05
     second = robot.nominal_pose() - 1.0  # saturates: -60 rad^-1 x 1 rad is beyond 16 N m
@@ -153,6 +153,8 @@ def test_split_pd_model_averages_two_clipped_pd_torques():
     limit = robot.HB40.torque_limit
     pd = lambda target: np.clip(60.0 * (target - q), -limit, limit)
     np.testing.assert_allclose(data.qfrc_actuator[6:], 0.5 * (pd(first) + pd(second)), atol=1e-9)
+    with pytest.raises(ValueError, match="24 actuators for 12 joints, not 1 per joint"):
+        motors.set_pd_gains(model, 60.0, 3.0)  # the split is said, not guessed from the shapes
 
 
 def test_thesis_code_cpg_adds_the_action_to_joint_angles_after_ik():

@@ -1,4 +1,5 @@
-"""A newcomer's extensions, registered from this module alone: a filter, an algorithm variant, a task, a robot."""
+"""A newcomer's extensions, registered from this module alone: a filter, an algorithm variant (CrossQ's kind), a
+task, a robot and a parameter experiment."""
 
 import dataclasses
 
@@ -9,9 +10,10 @@ import numpy as np
 import pytest
 
 from conftest import seed_keys
-from mjx_badger import actions, analysis, filters, kinematics, protocols, robot, tasks
+from mjx_badger import (actions, analysis, experiments, filters, kinematics, mjcf, plots, protocols, results, robot,
+                        tasks)
 from mjx_badger.agents import ALGORITHMS
-from mjx_badger.agents.config import Algorithm, crossq
+from mjx_badger.agents.config import Algorithm, crossq, sac
 from mjx_badger.train import TrainConfig, make_train
 
 
@@ -75,6 +77,83 @@ def test_the_low_pass_cutoff_is_a_parameter():
     assert 0 < first[1.0] < first[8.0]
 
 
+def test_a_registered_crossq_variant_gets_the_protocols_crossq_settings(toys, monkeypatch):
+    """Policy delay, renorm warm-up, actor renorm, target entropy and the next-episode bootstrap follow the
+    algorithm's kind (AgentConfig.is_crossq), not its name; a SAC variant gets none of them."""
+    monkeypatch.setitem(ALGORITHMS, "toy-sac", Algorithm(lambda: sac().replace(name="toy-sac"), "Toy SAC", "k"))
+    for protocol in (protocols.THESIS_CODE, protocols.THESIS_TEXT):
+        variant = protocol.agent_config("toy-crossq")
+        assert variant == protocol.agent_config("crossq").replace(name="toy-crossq", hidden=(16, 16))
+        assert (variant.policy_delay, variant.renorm_warmup_steps, variant.actor_batch_renorm) == (
+            protocol.crossq_policy_delay, protocol.crossq_renorm_warmup, protocol.crossq_actor_renorm)
+        assert protocol.bootstraps_from_next_episode("toy-crossq") == protocol.bootstraps_from_next_episode("crossq")
+        assert protocol.agent_config("toy-sac") == protocol.agent_config("sac").replace(name="toy-sac")
+        assert not protocol.bootstraps_from_next_episode("toy-sac")
+    code = protocols.THESIS_CODE.agent_config("toy-crossq")
+    assert code.target_entropy == -6.0 and code.policy_delay == 1 and code.renorm_warmup_steps == 1000
+    assert protocols.THESIS_CODE.bootstraps_from_next_episode("toy-crossq")
+    assert protocols.THESIS_CODE.agent_config("toy-sac").target_entropy is None
+
+
+def test_a_task_that_cannot_take_reward_weights_is_refused_when_the_run_is_built(toys, monkeypatch):
+    """slow-walk's factory has no weights=: a <term>_weight is refused by the spec's check, not by a TypeError
+    when the env is built; a factory with weights=None gets one parameter per reward term."""
+    assert tasks.task_params("slow-walk") == ()
+    with pytest.raises(ValueError, match=r"task 'slow-walk' cannot take reward weights \(energy_weight\)"):
+        TrainConfig(task="slow-walk", task_params=(("energy_weight", 0.0),))
+    monkeypatch.setitem(tasks.TASKS, "slow-walk-weighted",
+                        lambda form, rules, weights=None: tasks.forward(0.2, weights, form=form))
+    config = TrainConfig(task="slow-walk-weighted", task_params=(("energy_weight", 0.0),))
+    assert config.make_task().weights["energy"] == 0.0 and "velocity_weight" in tasks.task_params("slow-walk-weighted")
+
+
+# The toy experiment: three One Euro cutoffs of JT-OEF, one registry entry drawn like the thesis's.
+CUTOFFS = experiments.Experiment(
+    name="oef-cutoffs", thesis_figure="none (ours)", thesis_numbers={}, figures=("forward",),
+    runs=tuple(experiments.Run("jt-oef", "crossq", "forward", approach_params=(("min_cutoff", c),))
+               for c in (0.5, 1.0, 2.0)))
+
+
+def _document(velocity, chunks=5):
+    """A hand-made complete results document of 2 seeds whose training velocity ramps to `velocity`."""
+    ramp = [velocity * (i + 1) / chunks for i in range(chunks)]
+    return {"schema": results.SCHEMA, "config": {"warmup_steps": 1000}, "seeds": [0, 1], "complete": True,
+            "steps": [1000 * (i + 1) for i in range(chunks)], "sim_minutes": [0.4 * (i + 1) for i in range(chunks)],
+            "metrics": {"train/forward_velocity": [[v, v] for v in ramp], "train/falls": [[1.0, 2.0]] * chunks}}
+
+
+def test_a_parameter_experiment_names_files_and_draws_each_value(monkeypatch, tmp_path):
+    monkeypatch.setitem(experiments.EXPERIMENTS, CUTOFFS.name, CUTOFFS)
+    labels = [CUTOFFS.label(run) for run in CUTOFFS.runs]
+    assert labels == ["jt-oef min_cutoff=0.5", "jt-oef min_cutoff=1.0", "jt-oef min_cutoff=2.0"]
+    names = [CUTOFFS.result_name(run) for run in CUTOFFS.runs]
+    assert names[0] == "jt-oef_crossq_forward__min_cutoff=0.5.json" and len(set(names)) == 3
+    configs = [CUTOFFS.train_config(run, "smoke") for run in CUTOFFS.runs]
+    assert [c.approach_params for c in configs] == [(("min_cutoff", c),) for c in (0.5, 1.0, 2.0)]
+    folder = tmp_path / "smoke" / "thesis-code"
+    for run, velocity in zip(CUTOFFS.runs, (0.3, 0.5, 0.6)):
+        results.write(folder / CUTOFFS.name / CUTOFFS.result_name(run), _document(velocity))
+    written = plots.draw(folder, tmp_path / "figures", "smoke", names=[CUTOFFS.name])
+    assert [p.name for p in written] == ["oef-cutoffs_smoke.png", "oef-cutoffs_smoke.md"]
+    table = written[1].read_text()
+    assert all(f"| JT-OEF min_cutoff={c} | 2 x 5,000 |" in table for c in (0.5, 1.0, 2.0))
+
+
+def test_parameters_the_runs_share_name_nothing_and_any_group_can_vary():
+    """A learning-rate comparison at the real-world target: the shared target velocity is in neither label nor
+    file name; the learning rate is in both and in each run's agent."""
+    compared = experiments.Experiment(
+        name="learning-rates", thesis_figure="-", thesis_numbers={},
+        runs=tuple(experiments.Run("jt-oef", "crossq", "forward", experiments.REAL_TARGET,
+                                   algo_params=(("learning_rate", rate),)) for rate in (0.001, 0.005)))
+    assert [compared.label(run) for run in compared.runs] == ["jt-oef learning_rate=0.001",
+                                                              "jt-oef learning_rate=0.005"]
+    assert compared.result_name(compared.runs[1]) == "jt-oef_crossq_forward__learning_rate=0.005.json"
+    configs = [compared.train_config(run, "quick") for run in compared.runs]
+    assert [c.agent_config.learning_rate for c in configs] == [0.001, 0.005]
+    assert configs[0].task_params == configs[1].task_params == experiments.REAL_TARGET
+
+
 def test_a_kind_outside_jt_and_cpg_is_refused():
     with pytest.raises(ValueError, match="kind 'wheel' is not one of"):
         actions.register(actions.Approach("wheels", "wheel", "W", "k", lambda dt, p, spec: None))
@@ -82,7 +161,7 @@ def test_a_kind_outside_jt_and_cpg_is_refused():
 
 def test_a_registered_robot_is_built_from_its_spec(toys):
     """The toy robot's model and kinematics both come from its spec: FK equals native MuJoCo's feet."""
-    model = robot.load_model(LONG_LEGS)
+    model = mjcf.load_model(LONG_LEGS)
     assert model.body("trunk").mass[0] == 7.0
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model, LONG_LEGS)

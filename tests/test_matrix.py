@@ -7,7 +7,7 @@ import pytest
 
 from mjx_badger import actions, protocols
 from mjx_badger.env import EnvConfig, HB40Env
-from mjx_badger.experiments import APPROACHES
+from mjx_badger.experiments import THESIS_APPROACHES
 
 TASKS = ("forward", "forward-max", "omni-random", "omni-pdec")
 # 1 s episodes (40 or 50 steps), so a short rollout crosses resets.
@@ -19,7 +19,8 @@ SEEDS = 2
 # and every task once; the whole 6 x 4 matrix runs with `make test-slow`.
 DIAGONAL = (("jt-nf", "forward"), ("jt-lpf", "omni-pdec"), ("jt-oef", "forward-max"), ("cpg-d", "omni-pdec"),
             ("cpg-vf", "omni-random"), ("cpg-rt", "forward"))
-MATRIX = [pytest.param(a, t, marks=() if (a, t) in DIAGONAL else pytest.mark.slow) for a in APPROACHES for t in TASKS]
+MATRIX = [pytest.param(a, t, marks=() if (a, t) in DIAGONAL else pytest.mark.slow)
+          for a in THESIS_APPROACHES for t in TASKS]
 _compiled = {}
 
 

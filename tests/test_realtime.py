@@ -13,9 +13,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjx_badger import kinematics, plots, robot
+from mjx_badger import kinematics, mjcf, robot
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.realtime import control, safety, scheduling
+from mjx_badger.realtime import figure as realtime_figure
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
 from mjx_badger.realtime.interface import Sensors
 from mjx_badger.realtime.loop import Learner, RealtimeConfig, run
@@ -128,6 +129,22 @@ TINY = RealtimeConfig(approach="jt-oef", algo="crossq", steps=40, warmup_steps=2
                       eval_seconds=1.0, agent=ALGORITHMS["crossq"]().replace(hidden=(32, 32), batch_size=16))
 
 
+def test_the_robot_is_taken_by_its_adapters_name_and_one_without_a_ground_truth_logs_nan():
+    from mjx_badger import sensors
+    from mjx_badger.realtime import adapters, interface
+
+    bot = adapters.make("simulated", TINY, reset_seconds=0.0, sensor_noise=False)
+    assert isinstance(bot, SimulatedHB40) and bot.noise is sensors.EXACT and bot.reset_seconds == 0.0
+    np.testing.assert_array_equal(control.true_velocity(bot), np.zeros(3))  # standing, not yet started
+
+    class Blind(interface.Robot):
+        """A robot with sensors and motors but no ground truth: `truth` is the protocol's None."""
+
+    assert np.isnan(control.true_velocity(Blind())).all()
+    with pytest.raises(ValueError, match="unknown robot adapter 'hb50'; choose from simulated"):
+        adapters.make("hb50", TINY)
+
+
 def granted_in_a_thread(take, give_back) -> bool:
     """Whether `take()` is granted to a fresh thread of this process (given back at once)."""
     granted = []
@@ -180,7 +197,7 @@ def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path,
     trace = np.load(tmp_path / f"{TINY.name}.trace.npy")
     assert trace.shape[0] == TINY.steps and trace[:, 7].sum() == document["falls"]
     assert np.isfinite(trace[:, 2]).all() and np.isfinite(trace[:, 4]).all()
-    figure = plots.realtime_figure(document, trace, tmp_path / "run.png")
+    figure = realtime_figure.draw(document, trace, tmp_path / "run.png")
     assert figure.stat().st_size > 10_000
 
 
@@ -324,10 +341,10 @@ def test_the_robot_observes_and_scores_as_the_environment_does():
     rotation = np.asarray(data.xmat[env.mj_model.body("trunk").id], np.float64)
     orientation = np.zeros(4)
     mujoco.mju_mat2Quat(orientation, rotation.reshape(-1))
-    sensor = lambda name: np.asarray(data.sensordata[robot.sensor_slice(env.mj_model, name)])
+    sensor = lambda name: np.asarray(data.sensordata[mjcf.sensor_slice(env.mj_model, name)])
     sensors = Sensors(0.0, np.asarray(data.qpos[7:]), np.asarray(data.qvel[6:]), np.asarray(data.qfrc_actuator[6:]),
                       sensor("accelerometer"), sensor("gyro"), orientation)
-    measured = control.measure(sensors, np.asarray(before.info["prev_gyro"]), rotation.T @ np.asarray(data.qvel[:3]))
+    measured = control.measured_step(sensors, np.asarray(before.info["prev_gyro"]), rotation.T @ np.asarray(data.qvel[:3]))
     obs, reward, *_ = tick(agent.init(jax.random.PRNGKey(0)), state.info["action_state"], task.init(),
                            state.info["command"], measured, jax.random.PRNGKey(3), False)
     # float32 rounding: the robot's rotation passes through a quaternion (measured: 2e-7).

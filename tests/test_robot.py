@@ -9,7 +9,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from mjx_badger import actions, kinematics, protocols, robot
+from mjx_badger import actions, kinematics, mjcf, motors, protocols, robot
 from mjx_badger.env import EnvConfig, HB40Env
 
 with contextlib.redirect_stdout(io.StringIO()):
@@ -21,7 +21,7 @@ MAX_FOOT_SLIDE_M = 0.01
 
 
 def _standing_data(model, kp=60.0, kd=3.0):
-    robot.set_pd_gains(model, kp, kd)
+    motors.set_pd_gains(model, kp, kd)
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
     data.ctrl[:] = robot.nominal_pose()
@@ -34,7 +34,7 @@ def _feet_xy(model, data):
 
 
 def test_model_figures_are_the_thesis_codes():
-    model = robot.load_model()
+    model = mjcf.load_model()
     assert model.opt.timestep == robot.HB40.physics_dt == 0.005
     assert model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL and model.opt.impratio == 100
     # 5.423 trunk + 4 x (0.645 + 0.827 + 0.118) = 11.783 kg
@@ -51,7 +51,7 @@ def test_model_figures_are_the_thesis_codes():
 
 def test_nominal_pose_puts_each_foot_where_the_thesis_code_model_does():
     """Their nominal pose: each foot ~0.252 m below and ~0.102 m outboard of its hip (docs/thesis-code.md §1)."""
-    model = robot.load_model()
+    model = mjcf.load_model()
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
     mujoco.mj_forward(model, data)
@@ -65,7 +65,7 @@ def test_nominal_pose_puts_each_foot_where_the_thesis_code_model_does():
 
 
 def test_forward_kinematics_matches_native_mujoco_and_inverts():
-    model = robot.load_model()
+    model = mjcf.load_model()
     data = mujoco.MjData(model)
     rng = np.random.default_rng(0)
     for _ in range(5):
@@ -89,7 +89,7 @@ def test_thesis_code_ik_stands_the_feet_0_30_m_below_the_hips():
 def test_first_version_robot_stands_its_feet_in_one_plane_0_33_m_below_the_hips():
     """hb40-v1 (the attribution's 'robot geometry' swap): no lateral offsets, thigh 0.6 rad behind vertical."""
     spec = robot.HB40_FIRST_VERSION
-    model = robot.load_model(spec)
+    model = mjcf.load_model(spec)
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model, spec)
     mujoco.mj_forward(model, data)
@@ -103,7 +103,7 @@ def test_first_version_robot_stands_its_feet_in_one_plane_0_33_m_below_the_hips(
     np.testing.assert_allclose(model.jnt_range[1 + 5], [0.0, 2.53])
     np.testing.assert_allclose(model.body("trunk").inertia, [0.01884, 0.03746, 0.04726], atol=1e-6)
     data.ctrl[:] = robot.nominal_pose(spec)
-    robot.set_pd_gains(model, 25.0, 1.0)
+    motors.set_pd_gains(model, 25.0, 1.0)
     for _ in range(400):
         mujoco.mj_step(model, data)
     assert np.abs(data.qpos[4:6]).max() * 2 < MAX_TILT_RAD and data.qpos[2] > 0.3
@@ -112,7 +112,7 @@ def test_first_version_robot_stands_its_feet_in_one_plane_0_33_m_below_the_hips(
 def test_settles_at_the_thesis_code_heights():
     """docs/thesis-code.md §1: dropped from 0.316 m the model settles at 0.262 m (Kp 60 / Kd 3), 0.244 m (Kp 25 / Kd 1)."""
     for (kp, kd), expected in (((60.0, 3.0), 0.262), ((25.0, 1.0), 0.244)):
-        model = robot.load_model()
+        model = mjcf.load_model()
         data = _standing_data(model, kp, kd)
         for _ in range(400):
             mujoco.mj_step(model, data)
@@ -120,7 +120,7 @@ def test_settles_at_the_thesis_code_heights():
 
 
 def test_native_mujoco_stands_still_for_10_s():
-    model = robot.load_model()
+    model = mjcf.load_model()
     data = _standing_data(model)
     for _ in range(200):  # let it land and settle (1 s) before measuring sliding
         mujoco.mj_step(model, data)
@@ -169,7 +169,7 @@ def test_mjx_cpg_at_zero_action_trots_in_place_for_10_s():
 
 def test_mjx_matches_native_mujoco_over_one_second():
     """Same state, same control sequence: MJX (float32) tracks the C engine over 200 physics steps."""
-    model = robot.load_model()
+    model = mjcf.load_model()
     data = _standing_data(model)
     steps = int(1.0 / robot.HB40.physics_dt)
     t = np.arange(steps) * robot.HB40.physics_dt
@@ -184,7 +184,7 @@ def test_mjx_matches_native_mujoco_over_one_second():
     native = np.array(native)
 
     mx = mjx.put_model(model)
-    dx = mjx.put_data(model, _standing_data(robot.load_model()))
+    dx = mjx.put_data(model, _standing_data(mjcf.load_model()))
 
     def body(dx, u):
         dx = mjx.step(mx, dx.replace(ctrl=u))
@@ -201,7 +201,7 @@ def test_mjx_matches_native_mujoco_over_one_second():
 def test_the_spec_is_the_one_place_of_the_robots_figures():
     """A changed figure in the spec reaches the model and the kinematics built from it."""
     longer = dataclasses.replace(robot.HB40, calf_length=0.25)
-    model = robot.load_model(longer)
+    model = mjcf.load_model(longer)
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model, longer)
     mujoco.mj_forward(model, data)
@@ -212,5 +212,5 @@ def test_the_spec_is_the_one_place_of_the_robots_figures():
 def test_floor_contacts_choose_the_collision_pairs_and_keep_the_legs():
     """13 floor pairs (trunk, and per leg thigh motor, calf, foot); feet only is the first version's 4."""
     feet_only = dataclasses.replace(robot.HB40, floor_contacts=("foot",))
-    assert robot.load_model().npair == 13 and robot.load_model(feet_only).npair == 4
+    assert mjcf.load_model().npair == 13 and mjcf.load_model(feet_only).npair == 4
     actions.check_robot("cpg-d", feet_only, protocols.THESIS_CODE)  # the released CPG's IK still fits these legs

@@ -140,7 +140,7 @@ def test_seeds_that_do_not_split_over_the_devices_are_refused_before_anything_co
 
 
 def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
-    from mjx_badger import cli
+    from mjx_badger import cli, reproduce
     from mjx_badger.experiments import EXPERIMENTS
 
     timed = []
@@ -149,11 +149,11 @@ def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
         timed.append((config.algo, len(seeds)))
         return {"seed_steps_per_s": 100.0 if config.algo == "crossq" else 10.0, "compile_s": 60.0}
 
-    monkeypatch.setattr(runner, "measure", fake_measure)
+    monkeypatch.setattr(runner, "measure_speed", fake_measure)
     experiment = EXPERIMENTS["algo-comparison"]
     todo = [(experiment, run, None) for run in experiment.runs]
     args = cli.Reproduce(profile="full")
-    line = cli.measured_estimate(todo, args, seeds=10)
+    line = reproduce.measured_estimate(todo, args, seeds=10)
     assert sorted(timed) == sorted((run.algo, 10) for run in experiment.runs)  # one short chunk per algorithm
     expected_s = sum(experiment.steps(run, "full") * 10 / (100.0 if run.algo == "crossq" else 10.0) + 60.0
                      for run in experiment.runs)
@@ -162,7 +162,7 @@ def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
 
 @pytest.mark.slow  # a learning program of its own: minutes of compile
 def test_a_short_chunk_is_timed_on_this_machine():
-    measured = runner.measure(TINY_TRAIN, [0, 1], steps=20)
+    measured = runner.measure_speed(TINY_TRAIN, [0, 1], steps=20)
     assert measured["compile_s"] > 0  # the short program is its own: compiled here
     # Its rate is what a chunk of that program takes here, timed apart (within a loaded machine's spread).
     carry, chunk, compile_s = runner.compiled(make_train(runner.short_run(TINY_TRAIN, 20)), [0, 1])

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from mujoco import mjx
 
-from mjx_badger import estimators, learned_estimator, results, robot, sensors
+from mjx_badger import estimators, learned_estimator, mjcf, results, robot, sensors
 from mjx_badger.env import EnvConfig, HB40Env
 
 DT = 0.025
@@ -66,7 +66,7 @@ def test_numpy_and_jax_read_alike_from_the_same_draws():
 
 def test_mjx_and_native_mujoco_read_the_same_imu():
     """Ten physics steps of a robot dropped onto its feet with random joint targets, both engines."""
-    model = robot.load_model()
+    model = mjcf.load_model()
     data = mujoco.MjData(model)
     data.qpos[:] = robot.standing_qpos(model)
     rng = np.random.default_rng(0)
@@ -78,7 +78,7 @@ def test_mjx_and_native_mujoco_read_the_same_imu():
         mujoco.mj_step(model, data)
         dx = step(mx, dx)
     for name, tolerance in (("accelerometer", 0.05), ("gyro", 1e-3), ("orientation", 1e-4)):
-        where = robot.sensor_slice(model, name)
+        where = mjcf.sensor_slice(model, name)
         np.testing.assert_allclose(np.asarray(dx.sensordata[where]), data.sensordata[where], atol=tolerance,
                                    err_msg=name)
 

@@ -129,10 +129,10 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path, train_fns):
     assert native_run["engine"] == "native" and native_run["seed"] == 1 and native_run["command"] == [0.5, 0.0, 0.0]
     assert np.isfinite(native_run["velocity_along_command"]) and native_run["seconds"] == 2.0
     assert 0 <= native_run["falls"] <= 2 * 50 and isinstance(native_run["falls"], int)  # at most one per step
-    from mjx_badger import render, robot
+    from mjx_badger import mjcf, render
 
     try:
-        render.check_gl(robot.load_model())
+        render.check_gl(mjcf.load_model())
         rendering = True
     except RuntimeError:  # no offscreen OpenGL on this machine: no videos, and `render` says why (below)
         rendering = False

@@ -57,6 +57,12 @@ class AgentConfig:
         if self.updates_per_step < 1 or self.policy_delay < 1:
             raise ValueError(f"{self.name}: updates_per_step and policy_delay must be >= 1")
 
+    @property
+    def is_crossq(self) -> bool:
+        """CrossQ's kind of agent (batch renormalisation in the critic, so no target network): the one the protocols'
+        CrossQ settings apply to, whatever name it is registered under."""
+        return self.batch_renorm
+
     def replace(self, **changes) -> "AgentConfig":
         return dataclasses.replace(self, **changes)
 

@@ -20,7 +20,7 @@ from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
 from mjx_badger.realtime.interface import Robot, Sensors, rotation_matrix
 from mjx_badger.realtime.learner import Learner
-from mjx_badger.realtime.replay import HostReplay
+from mjx_badger.realtime.host_replay import HostReplay
 from mjx_badger.realtime.view import View
 
 
@@ -40,9 +40,16 @@ class Measured(NamedTuple):
     """Trunk-to-world rotation (3, 3) of the IMU's orientation."""
 
 
-def measure(sensors: Sensors, prev_gyro: np.ndarray, velocity: np.ndarray) -> Measured:
+def measured_step(sensors: Sensors, prev_gyro: np.ndarray, velocity: np.ndarray) -> Measured:
+    """What a control step knows of the robot, from one reading, the gyro before it and the estimated velocity."""
     return Measured(sensors.joint_angle, sensors.joint_velocity, sensors.joint_torque, sensors.acceleration,
                     sensors.angular_velocity, prev_gyro, velocity, rotation_matrix(sensors.orientation))
+
+
+def true_velocity(bot: Robot):
+    """The robot's true trunk-frame velocity (3,) for the logs, NaN where it has no ground truth."""
+    truth = bot.truth()
+    return truth["linear_velocity"] if truth is not None else (np.nan,) * 3
 
 
 def observe(env: HB40Env, action_state, command, measured: Measured):
@@ -181,7 +188,7 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
         # knock over a robot that can already walk, and the warm-up is there to fill the buffer.
         explore = progress.step < config.warmup_steps and config.init_from is None
         out = session.tick(session.learner.state, action_state, task_state, command,
-                           measure(sensors, prev_gyro, velocity), step_key, explore)
+                           measured_step(sensors, prev_gyro, velocity), step_key, explore)
         obs, reward, task_state, action, next_action_state, target, stance_out = out
         trip = safety.check(sensors, session.env.spec)
         stepping = previous is not None
@@ -195,7 +202,7 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
             session.buffer.add(previous[0], previous[1], reward, obs, 0.0 if trip else 1.0)
             progress.step += 1
             session.learner.new_step.set()
-            truth = bot.truth()["linear_velocity"] if hasattr(bot, "truth") else (np.nan,) * 3
+            truth = true_velocity(bot)
             progress.trace[progress.step - 1] = (progress.step, progress.train_seconds + time.perf_counter()
                                                  - episode_start, velocity[0], velocity[1], truth[0], truth[1],
                                                  reward, bool(trip))
@@ -247,11 +254,11 @@ def evaluate(session: Session, evaluate_tick, agent_state, task, key) -> dict:
             bot.damp()
             break
         action_state, target = evaluate_tick(agent_state, action_state, command,
-                                             measure(sensors, prev_gyro, velocity))
+                                             measured_step(sensors, prev_gyro, velocity))
         bot.command(np.asarray(target), *session.env.spec.pd_gains)
         prev_gyro = sensors.angular_velocity
         estimated.append(velocity[0])
-        true.append(bot.truth()["linear_velocity"][0] if hasattr(bot, "truth") else np.nan)
+        true.append(true_velocity(bot)[0])
         deadline += period
         scheduling.sleep_until(deadline)
     one_second = max(1, int(config.hz))

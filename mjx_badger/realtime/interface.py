@@ -1,8 +1,9 @@
-"""What the training loop may know about a robot: its sensors and three commands.
+"""What the training loop may know about a robot: its sensors, its commands, and a ground truth where it has one.
 
 A real-robot adapter implements `Robot` on top of the robot's SDK (for the HB40, the
 MAB Robotics API publishing joint states and IMU data and taking joint targets with
-gains) and is passed to `loop.run`. Nothing else of the loop touches the robot.
+gains), is registered by name in `adapters.py` and is passed to `loop.run`. Nothing else
+of the loop touches the robot.
 """
 
 import dataclasses
@@ -34,7 +35,7 @@ class Sensors:
 
 
 class Robot(Protocol):
-    """A robot the loop can train on."""
+    """A robot the loop can train on; an adapter that subclasses it inherits `truth`'s None."""
 
     def start(self) -> None:
         """Bring the robot up standing in the nominal pose."""
@@ -53,6 +54,11 @@ class Robot(Protocol):
 
     def stop(self) -> None:
         """Leave the robot in damping mode and release it."""
+
+    def truth(self) -> dict | None:
+        """The ground truth, for logs and figures only (the loop never learns from it): a dict with at least
+        "linear_velocity", the trunk-frame trunk velocity (3,) in m/s; None where the robot has none (a real one)."""
+        return None
 
 
 def rotation_matrix(quaternion: np.ndarray) -> np.ndarray:

@@ -6,7 +6,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mjx_badger.realtime.replay import HostReplay
+from mjx_badger.realtime.host_replay import HostReplay
 
 
 class Learner(threading.Thread):

@@ -10,13 +10,13 @@ from pathlib import Path
 import jax
 
 from mjx_badger import locks, results
-from mjx_badger.realtime import checkpoint, control, pretrained, report, scheduling
+from mjx_badger.realtime import control, pretrained, report, scheduling, session_checkpoint
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.control import Progress, build
 from mjx_badger.realtime.estimation import KalmanConfig, VelocityEstimator, estimator_name
 from mjx_badger.realtime.interface import Robot
 from mjx_badger.realtime.learner import Learner, replay_ratio_cap
-from mjx_badger.realtime.replay import HostReplay
+from mjx_badger.realtime.host_replay import HostReplay
 from mjx_badger.realtime.report import LOG_EVERY_STEPS, SCHEMA, TRACE, load_trace
 from mjx_badger.realtime.view import View, say
 
@@ -42,7 +42,7 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
          lock_memory: bool) -> dict:
     env, task, agent, tick, evaluate_tick, update = build(config)
     out_dir = Path(out_dir)
-    saved = checkpoint.path(out_dir, config)
+    saved = session_checkpoint.path(out_dir, config)
     key = jax.random.PRNGKey(config.seed)
     key, agent_key, learner_key = jax.random.split(key, 3)
     agent_state = pretrained.load(config, agent) if config.init_from else agent.init(agent_key)
@@ -50,9 +50,9 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
     buffer = HostReplay(config.steps, env.observation_size, env.action_size)
     progress = Progress(config.steps)
     learner_updates = 0
-    if resume and checkpoint.exists(saved):
-        agent_state, task_state, key, learner_updates = checkpoint.load(saved, config, agent_state, task_state, key,
-                                                                        buffer, progress)
+    if resume and session_checkpoint.exists(saved):
+        agent_state, task_state, key, learner_updates = session_checkpoint.load(
+            saved, config, agent_state, task_state, key, buffer, progress)
         finished = report.document_path(out_dir, config)
         if progress.step >= config.steps and finished.exists():
             say(view, f"{config.name} is complete ({progress.step} steps): {finished}; --restart trains again")
@@ -102,7 +102,7 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
                 complete and config.eval_seconds > 0) else None
         finally:
             bot.stop()
-    checkpoint.save(saved, config, learner.state, task_state, key, learner.updates, buffer, progress)
+    session_checkpoint.save(saved, config, learner.state, task_state, key, learner.updates, buffer, progress)
     document = report.document(config, progress, timing, learner.updates, compile_s, started, complete, evaluation)
     report.save(out_dir, config, document, progress)
     say(view, f"{'finished' if complete else 'stopped'} at step {progress.step}: {report.document_path(out_dir, config)}"

@@ -2,8 +2,8 @@
 
 The physics runs in its own thread, like the robot's own controller, and exposes only what
 the real robot's sensors give, with the noise of the suite's one sensor model (sensors.py,
-read every physics step); `truth()` is for logging and figures and is not part of the
-protocol, so the loop cannot learn from it.
+read every physics step); its `truth()` (the protocol's optional part) is for logging and
+figures, and the loop never learns from it.
 """
 
 import threading
@@ -12,13 +12,13 @@ import time
 import mujoco
 import numpy as np
 
-from mjx_badger import robot, sensors
+from mjx_badger import mjcf, motors, robot, sensors
 from mjx_badger.conditions import SIM, Conditions
 from mjx_badger.realtime import scheduling
-from mjx_badger.realtime.interface import Sensors
+from mjx_badger.realtime.interface import Robot, Sensors
 
 
-class SimulatedHB40:
+class SimulatedHB40(Robot):
     """The HB40 (or another robot spec) in native MuJoCo with its physics thread; implements `interface.Robot`."""
 
     def __init__(self, noise: sensors.SensorModel | None = sensors.SensorModel(), reset_seconds: float = 2.0, seed: int = 0,
@@ -26,7 +26,7 @@ class SimulatedHB40:
         self.spec = spec
         self.conditions = conditions
         # On the conditions' ground (a flat floor, or the cobblestones on their slope), its friction drawn per reset.
-        self.model = robot.load_model(spec, ground=conditions.ground if conditions is not SIM else None)
+        self.model = mjcf.load_model(spec, ground=conditions.ground if conditions is not SIM else None)
         self.data = mujoco.MjData(self.model)
         self.noise = sensors.EXACT if noise is None else noise
         self.reset_seconds = reset_seconds
@@ -42,8 +42,8 @@ class SimulatedHB40:
         self._applied_gains = None
         self._targets = np.asarray(robot.nominal_pose(self.spec), dtype=np.float64)
         self._trunk = self.model.body("trunk").id
-        self._accel = robot.sensor_slice(self.model, "accelerometer")
-        self._gyro = robot.sensor_slice(self.model, "gyro")
+        self._accel = mjcf.sensor_slice(self.model, "accelerometer")
+        self._gyro = mjcf.sensor_slice(self.model, "gyro")
         self._sensors: Sensors | None = None
         self._stand()
 
@@ -82,18 +82,18 @@ class SimulatedHB40:
             self._thread.join()
             self._thread = None
 
-    # Simulation only: ground truth for logs, and a hand on the robot for tests.
-    @property
-    def gains(self) -> tuple[float, float]:
-        with self._lock:
-            return self._gains
-
     def truth(self) -> dict:
-        """Trunk-frame linear velocity (3,), world position (3,) and roll, pitch of the simulated trunk."""
+        """Trunk-frame linear velocity (3,), world position (3,) and height of the simulated trunk."""
         with self._lock:
             rot = self.data.xmat[self._trunk].reshape(3, 3)
             return {"linear_velocity": rot.T @ self.data.qvel[:3], "position": self.data.qpos[:3].copy(),
                     "height": float(self.data.qpos[2])}
+
+    # Simulation only: a hand on the robot for tests.
+    @property
+    def gains(self) -> tuple[float, float]:
+        with self._lock:
+            return self._gains
 
     def tip(self, roll: float) -> None:
         """Roll the trunk to `roll` (rad) in place, as a push would."""
@@ -126,7 +126,7 @@ class SimulatedHB40:
         while self._running.is_set():
             with self._lock:
                 if self._gains != self._applied_gains:
-                    robot.set_pd_gains(self.model, *self._gains)
+                    motors.set_pd_gains(self.model, *self._gains)
                     self._applied_gains = self._gains
                 self.data.ctrl[:] = self._targets
                 mujoco.mj_step(self.model, self.data)
