@@ -112,13 +112,14 @@ def test_a_signal_stops_after_the_chunk_at_hand_saved_and_the_rerun_resumes(tmp_
                                                                              signum):
     """Ctrl-C or SIGTERM while the first chunk's results are written: that chunk is saved, checkpoint included."""
     _on_write(monkeypatch, RESULT, 1, lambda _: os.kill(os.getpid(), signum))
+    before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}  # SIG_IGN where started in background
     assert main([*TRAIN, "--out", str(tmp_path)]) == 128 + signum
     err = capsys.readouterr().err
     assert f"stopped by {signal.Signals(signum).name} at step {TINY_TRAIN.chunk_steps}" in err
     assert "run the same command again to resume" in err and "Traceback" not in err
     assert results.read(tmp_path / RESULT)["steps"] == [TINY_TRAIN.chunk_steps]
     assert (checkpoints.folder(tmp_path / RESULT) / "1").is_dir()
-    assert signal.getsignal(signal.SIGINT) is not None and signal.getsignal(signum) != signal.SIG_IGN
+    assert {s: signal.getsignal(s) for s in before} == before  # the run's handlers are gone again
     monkeypatch.undo()
     _resumes_to_whole(capsys, tmp_path, whole, TINY_TRAIN.chunk_steps)
 
