@@ -49,6 +49,8 @@ class _Track:
 
     def __init__(self):
         self.displacement, self.turn, self.contacts, self.falls = np.zeros(2), 0.0, [], 0
+        self.estimates = []
+        """The robot's own velocity estimate (trunk frame, x and y) per control step, where the env senses."""
 
     def step(self, before, after, fell: bool):
         if not fell:  # a fall's reset moves the trunk back to the start: no displacement of its own
@@ -61,11 +63,14 @@ class _Track:
         if not np.any(command[:2]):
             direction = np.array([1.0, 0.0])  # no command: report forward and sideways
         velocity = self.displacement / seconds
-        return {"seconds": seconds, "command": [float(c) for c in command],
-                "velocity_along_command": float(velocity @ direction),
-                "velocity_across_command": float(velocity @ np.array([-direction[1], direction[0]])),
-                "yaw_rate": float(self.turn / seconds), "falls": self.falls,
-                "gait_hz": analysis.gait_frequency(np.asarray(self.contacts), physics_dt)}
+        report = {"seconds": seconds, "command": [float(c) for c in command],
+                  "velocity_along_command": float(velocity @ direction),
+                  "velocity_across_command": float(velocity @ np.array([-direction[1], direction[0]])),
+                  "yaw_rate": float(self.turn / seconds), "falls": self.falls,
+                  "gait_hz": analysis.gait_frequency(np.asarray(self.contacts), physics_dt)}
+        if self.estimates:  # what the robot believed, beside what it walked (the thesis judged by video)
+            report["estimated_velocity_along_command"] = float(np.mean(np.asarray(self.estimates) @ direction))
+        return report
 
 
 def evaluation_env(config, seconds: float, sensing=None) -> HB40Env:
@@ -154,6 +159,8 @@ def run_native(env: HB40Env, act: Callable, command, seconds: float, seed: int =
         state = native.step(act(np.asarray(state.obs)))
         track.step(before, native.data.qpos.copy(), bool(state.info["terminated"]))
         track.contacts.extend(native.contacts)
+        if "estimate" in state.info:
+            track.estimates.append(np.asarray(state.info["estimate"])[:2])
         if on_step is not None:
             on_step(native.model, native.data)
         if state.done:  # a fall (the episode is as long as the evaluation): start again under the same command

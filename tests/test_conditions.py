@@ -158,3 +158,14 @@ def test_the_on_robot_loops_simulated_robot_walks_on_the_same_ground():
     low, high = conditions.OUTDOOR.ground.friction
     assert len(set(frictions)) == 4 and all(low <= f <= high for f in frictions)
     assert SimulatedHB40(noise=None).model.geom_type[0] == mujoco.mjtGeom.mjGEOM_PLANE
+
+
+def test_native_evaluation_reports_the_estimate_beside_the_true_speed():
+    from mjx_badger import native
+
+    env = native.evaluation_env(TrainConfig(approach="cpg-d", conditions="office"), 1.0)
+    report = native.run_native(env, lambda obs: np.zeros(env.action_size), [0.25, 0.0, 0.0], 1.0)
+    assert "estimated_velocity_along_command" in report and np.isfinite(report["estimated_velocity_along_command"])
+    assert "estimated_velocity_along_command" not in native.run_native(
+        native.evaluation_env(TrainConfig(approach="cpg-d"), 1.0), lambda obs: np.zeros(env.action_size),
+        [0.25, 0.0, 0.0], 1.0)
