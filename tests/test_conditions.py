@@ -169,3 +169,9 @@ def test_native_evaluation_reports_the_estimate_beside_the_true_speed():
     assert "estimated_velocity_along_command" not in native.run_native(
         native.evaluation_env(TrainConfig(approach="cpg-d"), 1.0), lambda obs: np.zeros(env.action_size),
         [0.25, 0.0, 0.0], 1.0)
+
+
+def test_a_floor_too_slippery_for_the_solver_is_refused_before_compiling():
+    with pytest.raises(ValueError, match="ground friction 0.7 is below 1, where MJX's contact solver blows up"):
+        TrainConfig(conditions="office", condition_changes=(("ground.friction", 0.7),))
+    TrainConfig(conditions="office", condition_changes=(("ground.friction", 1.2),))  # above the floor: fine
