@@ -111,6 +111,8 @@ class Trainer(NamedTuple):
     config: TrainConfig
     env: HB40Env
     init: Callable
+    step: Callable
+    """(carry, step index) -> (carry, that step's metrics): one environment step and its updates, what a chunk scans."""
     chunk: Callable
     train: Callable
     evaluate: Callable
@@ -253,7 +255,7 @@ def make_train(config: TrainConfig) -> Trainer:
         """After training: the gait record of the seed's deterministic policy (evaluation.py)."""
         return gait_record(carry.agent_state, carry.eval_key)
 
-    return Trainer(config=config, env=env, init=init, chunk=chunk, train=train, evaluate=evaluate_carry, gait=gait)
+    return Trainer(config=config, env=env, init=init, step=env_step, chunk=chunk, train=train, evaluate=evaluate_carry, gait=gait)
 
 
 def _finite(agent_state, metrics: dict) -> jnp.ndarray:

@@ -8,8 +8,7 @@ import numpy as np
 import pytest
 import scipy.signal
 
-from conftest import seed_keys
-from mjx_badger import actions, curriculum, filters, protocols, runner, tasks
+from mjx_badger import actions, curriculum, filters, protocols, tasks
 from mjx_badger.agents import make_agent
 from mjx_badger.agents.losses import Transition
 from mjx_badger.env import EnvConfig, HB40Env, observation_layout
@@ -200,22 +199,24 @@ TINY = dict(approach="jt-nf", algo="crossq", task="forward", total_steps=40, chu
             eval_steps=5)
 
 
-def _first_chunk(protocol: str, changes: tuple = ()):
+def _warm_up(protocol: str, changes: tuple = ()):
+    """The warm-up steps of one seed as the chunk scans them (Trainer.step), without the chunk's evaluation: half
+    the program to compile. Returns (trainer, carry after them, per-step metrics)."""
     config = TrainConfig(protocol=protocol, protocol_changes=changes, **TINY)
     trainer = make_train(config)
-    carry = jax.jit(jax.vmap(trainer.init))(seed_keys([0]))
-    # The one-seed program runner.run uses (unbatched: it compiles in half the time of a vmapped batch of one),
-    # built here rather than taken from runner.program: some of these tests patch the env.
-    carry, metrics = jax.jit(runner.seeds_chunk(trainer, 1))(carry, 0)
-    return trainer, carry, metrics
+    carry = jax.jit(trainer.init)(jax.random.PRNGKey(0))
+    scan = jax.jit(lambda carry: jax.lax.scan(trainer.step, carry, jnp.arange(config.warmup_steps)))
+    carry, steps = scan(carry)
+    return trainer, carry, steps
 
 
 def test_truncation_bootstraps_from_the_next_episodes_start_under_the_code():
     """5-step (code, 50 Hz) or 4-step (text, 40 Hz) episodes of random warm-up actions, which do not tip the robot."""
     for name in ("thesis-code", "thesis-text"):
-        trainer, carry, metrics = _first_chunk(name, (("episode_seconds", 0.1), ("action_delay", False)))
-        assert float(metrics["train/falls_total"][0]) == 0.0
-        data = jax.tree.map(lambda x: np.asarray(x[0]), carry.buffer.data)
+        trainer, carry, steps = _warm_up(name, (("episode_seconds", 0.1), ("action_delay", False)))
+        assert float(steps["falls_total"][-1]) == 0.0
+        assert float(steps["episode_end"].sum()) >= 4  # the rows below are episode ends
+        data = jax.tree.map(np.asarray, carry.buffer.data)
         last = trainer.env.episode_steps - 1  # the first episode's time-out row
         assert data.discount[last] == 1.0
         same = np.allclose(data.next_obs[last], data.obs[last + 1], atol=1e-6)
@@ -223,12 +224,12 @@ def test_truncation_bootstraps_from_the_next_episodes_start_under_the_code():
 
 
 def test_falls_in_the_warm_up_are_counted_only_under_the_text(monkeypatch):
-    """With every step a fall, the warm-up chunk counts 20 falls under the text and none under the code."""
+    """With every step a fall, the 20 warm-up steps count 20 falls under the text and none under the code."""
     monkeypatch.setattr(HB40Env, "_fall_rule", lambda self, data, motion, power_steps: jnp.bool_(True))
-    _, _, code = _first_chunk("thesis-code")
-    _, _, text = _first_chunk("thesis-text")
-    assert float(code["train/falls_total"][0]) == 20.0 and float(code["train/falls"][0]) == 0.0
-    assert float(text["train/falls"][0]) == 20.0
+    _, _, code = _warm_up("thesis-code")
+    _, _, text = _warm_up("thesis-text")
+    assert float(code["falls_total"][-1]) == 20.0 and float(code["falls"][-1]) == 0.0
+    assert float(text["falls"][-1]) == 20.0
 
 
 def _batch(obs=4, act=2, n=8):
