@@ -1,5 +1,6 @@
 """Figures drawn from results files only (nothing here trains); numbers from analysis.py, tables from tables.py."""
 
+import json
 import warnings
 from pathlib import Path
 
@@ -15,6 +16,7 @@ from mjx_badger.analysis import (DIRECTIONS, display_color, display_name, gait_f
                                  load_experiment, series, summarize)
 from mjx_badger.experiments import EXPERIMENTS, GROUPS, Experiment  # noqa: E402
 from mjx_badger.robot import ROBOTS  # noqa: E402
+from mjx_badger.realtime.report import SCHEMA as LOOP_SCHEMA  # noqa: E402
 from mjx_badger.tables import TABLES, released_code_table  # noqa: E402
 
 
@@ -324,4 +326,22 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protoco
                            "simulation at maximal velocity, office and outdoor at the 0.25 m/s target.\n\n"
                            + real_world.table_6(loaded["forward-max"], loaded["real-office"], loaded["real-outdoor"]))
         written.append(path)
+    loop = load_loop(Path(results_dir).parent.parent.joinpath(*real_world.LOOP_FOLDER))
+    if loop and loaded["real-outdoor"]:
+        path = figures_dir / f"real-outdoor_loop_{profile}.md"
+        safe_io.write_text(path, f"Profile: {profile}. The on-robot loop (`realtime --conditions outdoor`, one run, 40 Hz "
+                           "wall-clock) beside the vmapped real-outdoor runs of the same approach.\n\n"
+                           + real_world.loop_table(loop, loaded["real-outdoor"]))
+        written.append(path)
     return written
+
+
+def load_loop(folder: Path) -> dict:
+    """The forward-task CrossQ runs of the on-robot loop in `folder`, by approach (none when it does not exist)."""
+    runs = {}
+    for path in sorted(folder.glob("*_crossq_forward.json")) if folder.is_dir() else ():
+        document = json.loads(path.read_text())
+        if document.get("schema") != LOOP_SCHEMA:
+            raise ValueError(f"{path}: not a {LOOP_SCHEMA} results file (realtime's)")
+        runs[document["config"]["approach"]] = document
+    return runs

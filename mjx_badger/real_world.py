@@ -93,6 +93,44 @@ def table_6(simulation: dict, office: dict, outdoor: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
+LOOP_FOLDER = ("realtime", "outdoor")
+"""Where, beside a results folder's profiles, `realtime --conditions outdoor` runs are looked for: results/realtime/outdoor."""
+
+
+def loop_summary(document: dict) -> dict:
+    """An on-robot loop run's row (realtime results file): falls, final evaluation's true and estimated speed, minutes
+    with each fall's reset at the conditions' reset time (as the vmapped rows count them), updates per learning step."""
+    config = document["config"]
+    reset = get_conditions(config["conditions"], tuple(map(tuple, config.get("condition_changes", ())))).reset_seconds
+    evaluation = document.get("evaluation") or {}
+    nan = float("nan")
+    true = evaluation.get("true_velocity")
+    return {"steps": document["steps"], "complete": document["complete"], "falls": float(document["falls"]),
+            "velocity": nan if true is None else float(true), "estimated_velocity": evaluation.get("estimated_velocity", nan),
+            "minutes": document["train_minutes"] + document["falls"] * reset / 60,
+            "updates_per_step": document["updates_per_learning_step"], "protocol": config["protocol"]}
+
+
+def loop_table(loop: dict, vmapped: dict) -> str:
+    """Markdown: per approach, the on-robot loop's single run beside the vmapped runs of the same conditions."""
+    lines = ["| approach | loop: steps, protocol | falls | true speed m/s | as estimated | minutes | updates per step "
+             "| vmapped: seeds x steps, protocol | falls [min-max] | true speed | as estimated | minutes |",
+             "|---" * 12 + "|"]
+    for label, document in loop.items():
+        one = loop_summary(document)
+        head = (f"| {display_name(label)} | {one['steps']:,}{'' if one['complete'] else ' (incomplete)'}, "
+                f"{one['protocol']} | {one['falls']:.0f} | {one['velocity']:.2f} | {one['estimated_velocity']:.2f} "
+                f"| {one['minutes']:.0f} | {one['updates_per_step']:.2f} ")
+        if label not in vmapped:
+            lines.append(head + "| not run | | | | |")
+            continue
+        s = summary(vmapped[label])
+        lines.append(head + f"| {s['seeds']} x {s['steps']:,}, {vmapped[label]['config']['protocol']} "
+                     f"| {s['falls']:.0f} [{s['falls_range'][0]:.0f}-{s['falls_range'][1]:.0f}] | {s['velocity']:.2f} "
+                     f"| {s['estimated_velocity']:.2f} | {s['minutes']:.0f} |")
+    return "\n".join(lines) + "\n"
+
+
 def figure(experiment, documents: dict, out, label: str):
     """Training curves of the true and the estimated forward velocity (as the robot saw it), and falls."""
     from mjx_badger import plots
