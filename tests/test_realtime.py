@@ -199,6 +199,10 @@ def test_loop_runs_end_to_end_and_a_tip_puts_the_robot_in_damping_mode(tmp_path,
     assert np.isfinite(trace[:, 2]).all() and np.isfinite(trace[:, 4]).all()
     figure = realtime_figure.draw(document, trace, tmp_path / "run.png")
     assert figure.stat().st_size > 10_000
+    # An evaluation that fell before its first second has no best second (it once crashed the drawing).
+    fell = dict(document, evaluation={"seconds": 0.5, "fell": "roll -0.81 rad", "estimated_velocity": -0.1,
+                                      "true_velocity": 0.14, "true_peak_1s": None})
+    assert realtime_figure.draw(fell, trace, tmp_path / "fell.png").stat().st_size > 10_000
 
 
 class Interrupting(SimulatedHB40):

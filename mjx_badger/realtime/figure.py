@@ -76,8 +76,12 @@ def draw(document: dict, trace: np.ndarray, out: Path) -> Path:
                f"({document['minutes_with_resets']:.1f} with resets), {document['falls']} falls, "
                f"{document['updates_per_learning_step']:.2f} updates per learning step")
     if evaluation.get("true_velocity") is not None:
-        summary += (f"; evaluation {evaluation['true_velocity']:.2f} m/s mean, "
-                    f"{evaluation['true_peak_1s']:.2f} m/s best second")
+        summary += f"; evaluation {evaluation['true_velocity']:.2f} m/s mean"
+        # No best second when the evaluation ended (a fall) before its first second.
+        if evaluation.get("true_peak_1s") is not None:
+            summary += f", {evaluation['true_peak_1s']:.2f} m/s best second"
+    if evaluation.get("fell"):
+        summary += f"; fell after {evaluation['seconds']:.1f} s ({evaluation['fell']})"
     fig.suptitle(summary, fontsize=10)
     fig.tight_layout()
     try:
