@@ -75,7 +75,7 @@ class RunSpec:
                     raise ValueError(f"protocol field {field} takes {', '.join(words)}, not {value!r}")
         self.protocol_spec  # unknown protocol fields raise here
         ground = self.conditions_spec.ground  # unknown or invalid condition fields raise here
-        on_robot.check_friction(ground, self.robot_spec.impratio)
+        on_robot.check_friction(ground, ground.impratio_with(self.robot_spec.impratio))
         if ground.terrain != "flat":  # and parts MJX cannot collide with a height field here (a model, no compile)
             mjcf.load_model(self.robot_spec, ground=ground)
         actions.check_params(self.approach, dict(self.approach_params))

@@ -175,3 +175,22 @@ def test_a_floor_too_slippery_for_the_solver_is_refused_before_compiling():
     with pytest.raises(ValueError, match="ground friction 0.7 is below 1, where MJX's contact solver blows up"):
         TrainConfig(conditions="office", condition_changes=(("ground.friction", 0.7),))
     TrainConfig(conditions="office", condition_changes=(("ground.friction", 1.2),))  # above the floor: fine
+    # With a ground whose solver runs at impratio 1 the check has nothing to guard.
+    TrainConfig(conditions="office", condition_changes=(("ground.friction", 0.7), ("ground.impratio", 1.0)))
+
+
+def test_the_stones_run_the_contact_solver_at_their_own_impratio_everywhere():
+    """Outdoor's impratio reaches the MJX env, native MuJoCo and the on-robot loop's robot; the office keeps the
+    model's."""
+    from mjx_badger import native
+    from mjx_badger.realtime.simulated import SimulatedHB40
+
+    stones = conditions.OUTDOOR.ground.impratio
+    assert stones == 10.0 and robot.HB40.impratio == 100.0
+    outdoor = TrainConfig(approach="jt-oef", conditions="outdoor")
+    assert float(HB40Env("jt-oef", "forward", EnvConfig(conditions=conditions.OUTDOOR)).mjx_model.opt.impratio) == stones
+    assert native.evaluation_env(outdoor, 1.0).mj_model.opt.impratio == stones
+    assert SimulatedHB40(noise=None, conditions=conditions.OUTDOOR).model.opt.impratio == stones
+    assert mjcf.load_model(ground=conditions.OFFICE.ground).opt.impratio == robot.HB40.impratio
+    with pytest.raises(ValueError, match="ground impratio 0.5: choose within 1..1000"):
+        TrainConfig(conditions="outdoor", condition_changes=(("ground.impratio", 0.5),))
