@@ -205,7 +205,8 @@ def _outdoor_cpg(r):
 def _faster_than_believed(r):
     s = summary(r.document("real-office", "jt-oef"))
     words = f"office JT-OEF walks {s['velocity']:.2f} m/s and estimates {s['estimated_velocity']:.2f} m/s"
-    return words, s["velocity"] > 1.5 * max(s["estimated_velocity"], 0.0)
+    # It must walk too: a policy that stands still and believes it stands stiller proves nothing.
+    return words, s["velocity"] >= 0.2 and s["velocity"] > 1.5 * max(s["estimated_velocity"], 0.0)
 
 
 def real_claims() -> tuple:
@@ -227,5 +228,5 @@ def real_claims() -> tuple:
               "CPG-VF < 0.1 m/s, most falls, poor yaw; CPG-D >= 0.2 m/s with good or very good yaw", _outdoor_cpg),
         Claim("real-faster-than-believed", "Trained on the estimate, a policy walks faster than it believes",
               "§5.2.1", "office JT-OEF: 1.5 m/s when tested in simulation",
-              "office JT-OEF's true evaluation speed > 1.5x its own estimate", _faster_than_believed),
+              "office JT-OEF walks (>= 0.2 m/s, true) at more than 1.5x its own estimate", _faster_than_believed),
     )

@@ -65,6 +65,10 @@ def test_the_real_world_claims_follow_the_numbers(tmp_path):
     _write(folder, "real-office", "jt-oef", _document(0.85, 10, estimated=0.8))
     board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code", real_world.real_claims())}
     assert board["real-excluded-fall"].holds is False and board["real-faster-than-believed"].holds is False
+    # Standing still and believing it stands stiller is no finding.
+    _write(folder, "real-office", "jt-oef", _document(0.04, 10, estimated=0.006))
+    board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code", real_world.real_claims())}
+    assert board["real-faster-than-believed"].holds is False
 
 
 def test_the_loop_table_puts_the_loop_beside_the_vmapped_runs(tmp_path):
