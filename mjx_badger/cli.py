@@ -470,11 +470,17 @@ class SavedRun:
     seconds: float = 20.0
     max_seconds = 3600.0
     """The longest run a command takes (a render keeps every frame in memory: less)."""
+    conditions: Optional[str] = None
+    """Run it under other conditions than it trained in (sim, office, outdoor): the thesis tested its office policy
+    in simulation (§5.2.1). Default: the run's own."""
 
     def check(self) -> None:
         from mjx_badger import policy, results
+        from mjx_badger.conditions import CONDITIONS
 
         number("--seconds", self.seconds, 0.0, self.max_seconds, low_open=True)
+        if self.conditions is not None and self.conditions not in CONDITIONS:
+            raise ValueError(f"--conditions {self.conditions!r}: choose from {', '.join(CONDITIONS)}")
         if self.seed is not None:
             integer("--seed", self.seed, 0, INT32_MAX)
         if not self.results.is_file():
@@ -505,7 +511,10 @@ class SavedRun:
 
         document = results.read(self.results)
         actor = policy.load(self.results.parent / document["policy"], self.seed)
-        env = native.evaluation_env(results.train_config(document), self.seconds)
+        config = results.train_config(document)
+        if self.conditions is not None:  # the whole set of the named conditions, none of the run's own changes
+            config = dataclasses.replace(config, conditions=self.conditions, condition_changes=())
+        env = native.evaluation_env(config, self.seconds)
         command = ([float(x) for x in self.command.split(",")] if self.command
                    else list(next(iter(env.task.eval_commands.values()))))
         return env, actor, command
@@ -526,11 +535,13 @@ class Evaluate(SavedRun):
             writable_file(self.json, "--json")
 
     def __call__(self) -> int:
-        from mjx_badger import native
+        from mjx_badger import native, results
 
         env, actor, command = self.load()
         run = native.run_native if self.engine == "native" else native.run_mjx
-        report = dict(run(env, actor, command, self.seconds), engine=self.engine, seed=actor.seed)
+        conditions = self.conditions or results.read(self.results)["config"].get("conditions", "sim")
+        report = dict(run(env, actor, command, self.seconds), engine=self.engine, seed=actor.seed,
+                      conditions=conditions)
         print(json.dumps(report, indent=1))
         if self.json:
             safe_io.write_text(self.json, json.dumps(report, indent=1))

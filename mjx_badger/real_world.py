@@ -98,8 +98,9 @@ LOOP_FOLDER = ("realtime", "outdoor")
 
 
 def loop_summary(document: dict) -> dict:
-    """An on-robot loop run's row (realtime results file): falls, final evaluation's true and estimated speed, minutes
-    with each fall's reset at the conditions' reset time (as the vmapped rows count them), updates per learning step."""
+    """An on-robot loop run's row (realtime results file): falls, final evaluation's true and estimated speed and how
+    it ended, minutes with each fall's reset at the conditions' reset time (as the vmapped rows count them), updates
+    per learning step."""
     config = document["config"]
     reset = get_conditions(config["conditions"], tuple(map(tuple, config.get("condition_changes", ())))).reset_seconds
     evaluation = document.get("evaluation") or {}
@@ -108,18 +109,26 @@ def loop_summary(document: dict) -> dict:
     return {"steps": document["steps"], "complete": document["complete"], "falls": float(document["falls"]),
             "velocity": nan if true is None else float(true), "estimated_velocity": evaluation.get("estimated_velocity", nan),
             "minutes": document["train_minutes"] + document["falls"] * reset / 60,
-            "updates_per_step": document["updates_per_learning_step"], "protocol": config["protocol"]}
+            "updates_per_step": document["updates_per_learning_step"], "protocol": config["protocol"],
+            "evaluation": _evaluation_words(evaluation)}
+
+
+def _evaluation_words(evaluation: dict) -> str:
+    """How the loop's one evaluation ended: a speed read over a tumble is not a walk's."""
+    if "seconds" not in evaluation:
+        return "-"
+    return f"fell after {evaluation['seconds']:.2f} s" if evaluation.get("fell") else f"{evaluation['seconds']:.0f} s"
 
 
 def loop_table(loop: dict, vmapped: dict) -> str:
     """Markdown: per approach, the on-robot loop's single run beside the vmapped runs of the same conditions."""
-    lines = ["| approach | loop: steps, protocol | falls | true speed m/s | as estimated | minutes | updates per step "
-             "| vmapped: seeds x steps, protocol | falls [min-max] | true speed | as estimated | minutes |",
-             "|---" * 12 + "|"]
+    lines = ["| approach | loop: steps, protocol | falls | evaluation | true speed m/s | as estimated | minutes "
+             "| updates per step | vmapped: seeds x steps, protocol | falls [min-max] | true speed | as estimated "
+             "| minutes |", "|---" * 13 + "|"]
     for label, document in loop.items():
         one = loop_summary(document)
         head = (f"| {display_name(label)} | {one['steps']:,}{'' if one['complete'] else ' (incomplete)'}, "
-                f"{one['protocol']} | {one['falls']:.0f} | {one['velocity']:.2f} | {one['estimated_velocity']:.2f} "
+                f"{one['protocol']} | {one['falls']:.0f} | {one['evaluation']} | {one['velocity']:.2f} | {one['estimated_velocity']:.2f} "
                 f"| {one['minutes']:.0f} | {one['updates_per_step']:.2f} ")
         if label not in vmapped:
             lines.append(head + "| not run | | | | |")

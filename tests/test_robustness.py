@@ -89,6 +89,8 @@ def test_evaluate_and_render_name_a_missing_saved_policy(capsys, command, tmp_pa
     (["render", "x.json", "--seconds", "600"], "--seconds must be a finite number in (0, 60]"),
     (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--command", "0.5,0,inf"],
      "--command YAW must be a finite number"),
+    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--conditions", "moon"],
+     "--conditions 'moon': choose from sim, office, outdoor"),
     (["attribute", "--only"], "--only needs at least one swap"),
     (["claims", "--json", "/proc/version/board.json"], "is a file, not a folder"),
     (["claims", "--json", "b.json", "--markdown", "b.json"], "--json and --markdown name the same file"),
