@@ -180,11 +180,17 @@ def _words(value, measure: str) -> str:
     return f"{value:.2f} m/s"
 
 
-def table(results_dir: Path) -> str:
-    """docs/attribution.md's 'departure -> claims it moves' table from the complete attribution results."""
-    lines = ["| departure (fields set to the other protocol's value) | run | thesis-code baseline | swapped "
-             "| claims it can move |", "|---|---|---|---|---|"]
+def table(results_dir: Path, conditions: bool = False) -> str:
+    """Markdown 'departure -> claims it moves' of the complete attribution results: the protocol swaps
+    (docs/attribution.md), or with `conditions` the reality gap's swaps (docs/real-world.md)."""
+    head = ("| condition set back to the simulation's | run | outdoor baseline | swapped | findings it can move |"
+            if conditions else
+            "| departure (fields set to the other protocol's value) | run | thesis-code baseline | swapped "
+            "| claims it can move |")
+    lines = [head, "|---|---|---|---|---|"]
     for swap in SWAPS:
+        if bool(swap.condition_changes) != conditions:
+            continue
         for run in swap.runs():
             base_path = folder(results_dir, None, swap.base, swap.conditions) / swap.experiment / result_name(run)
             swapped_path = base_path if swap.counted_as else (
@@ -198,4 +204,3 @@ def table(results_dir: Path) -> str:
             lines.append(f"| {swap.name} ({swap.describe()}) | {swap.experiment} {run.approach}{algo} "
                          f"| {cells[0]} | {cells[1]} | {', '.join(swap.claims)} |")
     return "\n".join(lines) + "\n"
-

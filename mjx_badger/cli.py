@@ -408,6 +408,7 @@ class Attribute:
                 continue
             runner.run(config, seeds, path, progress=runner.progress_wanted())
         print(attribution.table(self.results_dir))
+        print(attribution.table(self.results_dir, conditions=True))
         return 0
 
 

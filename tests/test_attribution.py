@@ -154,3 +154,28 @@ def test_a_swap_of_another_algorithm_runs_it_and_names_it_in_the_table(tmp_path)
     row = [line for line in attribution.table(tmp_path).splitlines() if line.startswith("| JT gains and rate, DroQ")]
     assert row and "| algo-comparison jt-nf droq |" in row[0]
     assert "| 0.7 simulated min; 3.0 falls | 1.2 simulated min; 3.0 falls |" in row[0]
+
+
+def test_the_reality_gaps_swaps_have_their_own_table(tmp_path):
+    import json
+
+    from mjx_badger import results
+
+    swap = attribution.SWAPS_BY_NAME["true velocity in the loop"]
+    run = swap.runs()[0]
+    for where, (true, estimated) in ((None, (0.01, 0.0)), (swap, (0.28, 0.01))):
+        base = attribution.folder(tmp_path, where, swap.base, swap.conditions)
+        path = base / swap.experiment / attribution.result_name(run)
+        path.parent.mkdir(parents=True)
+        metrics = {"eval/desired_velocity": [[0.0, 0.0], [true, true]],
+                   "eval/estimated_desired_velocity": [[0.0, 0.0], [estimated, estimated]],
+                   "train/falls_total": [[1.0, 3.0], [2.0, 4.0]], "train/falls": [[1.0, 3.0], [2.0, 4.0]],
+                   "train/forward_velocity": [[0.0, 0.0], [true, true]]}
+        path.write_text(json.dumps({"schema": results.SCHEMA, "steps": [1000, 2000], "sim_minutes": [0.4, 0.8],
+                                    "seeds": [0, 1], "complete": True, "config": {"warmup_steps": 1000},
+                                    "metrics": metrics}))
+    gap = attribution.table(tmp_path, conditions=True)
+    assert gap.startswith("| condition set back to the simulation's | run | outdoor baseline |")
+    row = [line for line in gap.splitlines() if line.startswith("| true velocity in the loop")]
+    assert row and "| 0.01 m/s; 0.00 m/s estimated;" in row[0] and "| 0.28 m/s; 0.01 m/s estimated;" in row[0]
+    assert "true velocity in the loop" not in attribution.table(tmp_path)  # not among the protocol's departures
