@@ -314,11 +314,12 @@ class Claims:
         boards = {name: claims.score(self.results_dir / self.profile, name) for name in names}
         for name, board in boards.items():
             print(claims.scoreboard_text(board, self.profile, name))
-            print(f"  wall time: {results.wall_time_words(self.results_dir / self.profile / name)}")
+            print(f"  wall time: {results.wall_time_words(self.results_dir / self.profile / name, GROUPS['simulation'])}")
             print()
         for name in names:  # the real-world findings, in their own section
             real = claims.score(self.results_dir / self.profile, name, real_world.real_claims())
             print(claims.scoreboard_text(real, self.profile, name).replace("thesis claims", "real-world findings", 1))
+            print(f"  wall time: {results.wall_time_words(self.results_dir / self.profile / name, GROUPS['real'])}")
             print()
         if self.markdown:
             from mjx_badger import reproduce
@@ -337,9 +338,10 @@ class Claims:
         boards = {name: claims.score(self.results_dir / name, protocol) for name in self.budgets}
         print(claims.budgets_text(boards, protocol))
         for name in boards:
-            print(f"  wall time at {name}: {results.wall_time_words(self.results_dir / name / protocol)}")
+            print(f"  wall time at {name}: {results.wall_time_words(self.results_dir / name / protocol, GROUPS['simulation'])}")
         if self.markdown:
-            times = "; ".join(f"{name}: {results.wall_time_words(self.results_dir / name / protocol)}" for name in boards)
+            times = "; ".join(f"{name}: {results.wall_time_words(self.results_dir / name / protocol, GROUPS['simulation'])}"
+                              for name in boards)
             safe_io.write_text(self.markdown, f"Protocol: {protocol}\n\n" + claims.scoreboard_markdown(boards, "ours at {}")
                                + f"\nWall time on this machine: {times}.\n")
             print(f"wrote {self.markdown}")

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from mjx_badger import safe_io
 from mjx_badger.agents import ALGORITHMS
-from mjx_badger.experiments import EXPERIMENTS, PROFILES, expand
+from mjx_badger.experiments import EXPERIMENTS, GROUPS, PROFILES, expand
 from mjx_badger.protocols import PROTOCOLS
 
 # Seed-steps (one env step and one update each) per second of CrossQ with JT on the 2-core
@@ -186,7 +186,7 @@ def write_scoreboard_markdown(path: Path, boards: dict, profile_folder: Path) ->
     """The side-by-side scoreboard docs/results.md quotes, with each protocol's wall time under it."""
     from mjx_badger import claims, results
 
-    times = "; ".join(f"{name}: {results.wall_time_words(profile_folder / name)}" for name in boards)
+    times = "; ".join(f"{name}: {results.wall_time_words(profile_folder / name, GROUPS['simulation'])}" for name in boards)
     text = claims.scoreboard_markdown(boards)
     previous = path.read_text(errors="replace") if path.is_file() else ""
     text, kept = claims.keep_decided(text, previous)

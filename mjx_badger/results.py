@@ -252,19 +252,21 @@ def left_out_words(document: dict) -> str:
     return "; ".join(f"seed {g['seed']} left out: diverged at step {g['diverged_at_step']}" for g in gone)
 
 
-def wall_time(folder: Path) -> dict:
-    """Compile and run seconds summed over the complete results files under `folder`."""
+def wall_time(folder: Path, experiments: tuple | None = None) -> dict:
+    """Compile and run seconds summed over the complete results files under `folder` (under its `experiments`
+    subfolders only, if given)."""
     # Not the run.json stamps inside a running or interrupted run's checkpoint folder.
     documents = [read_or_skip(path) for path in sorted(Path(folder).glob("**/*.json"))
-                 if not any(part.endswith((".ckpt", ".agents")) for part in path.parent.parts)]
+                 if not any(part.endswith((".ckpt", ".agents")) for part in path.parent.parts)
+                 and (experiments is None or path.relative_to(folder).parts[0] in experiments)]
     clocks = [d.get("wall_clock") or {} for d in documents if d is not None and d.get("complete")]
     return {"runs": len(clocks), "compile_s": sum(c.get("compile_s", 0.0) for c in clocks),
             "run_s": sum(c.get("run_s", 0.0) for c in clocks)}
 
 
-def wall_time_words(folder: Path) -> str:
+def wall_time_words(folder: Path, experiments: tuple | None = None) -> str:
     """'N runs in H h (compile M min)', for scoreboards, the README and docs/results.md."""
-    time = wall_time(folder)
+    time = wall_time(folder, experiments)
     hours = (time["compile_s"] + time["run_s"]) / 3600
     runs = f"{time['runs']} run" + ("" if time["runs"] == 1 else "s")
     return f"{runs} in {hours:.2f} h (compile {time['compile_s'] / 60:.1f} min of it)"

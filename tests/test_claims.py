@@ -101,6 +101,12 @@ def test_wall_time_passes_over_the_checkpoints_of_a_running_run(tmp_path):
     stamp.parent.mkdir(parents=True)
     stamp.write_text('{"config": {}, "seeds": [0]}')
     assert results.wall_time_words(folder) == "1 run in 1.00 h (compile 1.0 min of it)"
+    # The simulation claims' wall time leaves the real-world runs out, and theirs the simulation's.
+    real = dict(_document(0.5, 1.0), wall_clock={"compile_s": 0.0, "run_s": 1800.0})
+    results.write(folder / "real-office" / "jt-oef_crossq_forward.json", real)
+    assert results.wall_time_words(folder) == "2 runs in 1.50 h (compile 1.0 min of it)"
+    assert results.wall_time_words(folder, ("forward", "omni-pdec")) == "1 run in 1.00 h (compile 1.0 min of it)"
+    assert results.wall_time_words(folder, ("real-office",)) == "1 run in 0.50 h (compile 0.0 min of it)"
 
 
 def test_the_budgets_board_puts_each_profile_beside_the_thesis(tmp_path, capsys):
