@@ -25,6 +25,8 @@ def display_name(name: str) -> str:
     entry = APPROACHES.get(head) or ALGORITHMS.get(head)
     if entry is not None and params and all("=" in word for word in params.split()):
         return f"{entry.label} {params}"
+    if entry is not None and params in ALGORITHMS:  # 'jt-lpf sac-utd20': a run of another algorithm than CrossQ
+        return f"{ALGORITHMS[params].label} {entry.label}"
     return name
 
 

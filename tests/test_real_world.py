@@ -90,3 +90,10 @@ def test_the_loop_table_puts_the_loop_beside_the_vmapped_runs(tmp_path):
     with pytest.raises(ValueError, match="not a mjx_badger.realtime/1 results file"):
         plots.load_loop(folder)
     assert plots.load_loop(tmp_path / "missing") == {}
+
+
+def test_a_run_of_another_algorithm_is_named_algorithm_first():
+    from mjx_badger.analysis import display_name
+
+    assert display_name("jt-lpf sac-utd20") == "SAC-UTD20 JT-LPF"  # Table 5.3's first row, as the thesis names it
+    assert display_name("jt-lpf") == "JT-LPF" and display_name("jt-lpf cutoff_hz=2") == "JT-LPF cutoff_hz=2"
