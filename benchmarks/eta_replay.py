@@ -28,23 +28,13 @@ def before(runs: list, updates: list) -> list:
     return out
 
 
-def quick_costs() -> dict:
-    folder = ROOT / "figures" / "data" / "quick" / "thesis-code"
-    return {f"{p.parent.name}/{p.name}": (results.read(p)["wall_clock"]["run_s"], results.read(p)["wall_clock"]["compile_s"])
-            for p in folder.glob("*/*.json")}
-
-
-def smoke_costs() -> dict:
-    runs = json.loads((ROOT / "benchmarks" / "results" / "smoke_profile_time.json").read_text())["runs"]
-    return {name: (run["run_s"], run["compile_s"]) for name, run in runs.items()}
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "eta_replay.json")
     args = parser.parse_args()
     report = {"what": __doc__.splitlines()[0], "git_commit": results.git_commit(), "profiles": {}}
-    for profile, costs in (("quick", quick_costs()), ("smoke", smoke_costs())):
+    for profile in ("quick", "smoke"):
+        costs = eta.measured_costs(profile, ROOT)
         order = eta.profile_plan(profile)
         runs = [(plan, (0.0, 0.0) if plan.copy else costs[name]) for name, plan, _ in order]
         old = before(runs, [updates for *_, updates in order])

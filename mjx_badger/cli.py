@@ -538,13 +538,12 @@ class Evaluate(SavedRun):
             writable_file(self.json, "--json")
 
     def __call__(self) -> int:
-        from mjx_badger import native, results
+        from mjx_badger import native
 
         env, actor, command = self.load()
         run = native.run_native if self.engine == "native" else native.run_mjx
-        conditions = self.conditions or results.read(self.results)["config"].get("conditions", "sim")
         report = dict(run(env, actor, command, self.seconds), engine=self.engine, seed=actor.seed,
-                      conditions=conditions)
+                      conditions=env.conditions.name)
         print(json.dumps(report, indent=1))
         if self.json:
             safe_io.write_text(self.json, json.dumps(report, indent=1))

@@ -8,7 +8,9 @@ length, and a task with more evaluation commands compiles a larger program. Both
 that copies an earlier one of the same configuration costs nothing.
 """
 
+import json
 import statistics
+from pathlib import Path
 from typing import NamedTuple
 
 UPDATE_COST = 2.2
@@ -86,3 +88,16 @@ def profile_plan(profile: str) -> list[tuple[str, Planned, int]]:
             plans.append((f"{name}/{experiment.result_name(run)}", planned(config, seeds, config in seen), updates))
             seen.append(config)
     return plans
+
+
+def measured_costs(profile: str, root: Path) -> dict:
+    """{experiment/file: (training s, compile s)} of a profile's runs as they went on the machine this project is
+    developed on, in the repository at `root`: quick's committed results, a fresh clone's smoke profile."""
+    if profile == "smoke":
+        runs = json.loads((root / "benchmarks" / "results" / "smoke_profile_time.json").read_text())["runs"]
+        return {name: (run["run_s"], run["compile_s"]) for name, run in runs.items()}
+    cost = {}
+    for path in (root / "figures" / "data" / profile / "thesis-code").glob("*/*.json"):
+        clock = json.loads(path.read_text())["wall_clock"]
+        cost[f"{path.parent.name}/{path.name}"] = (clock["run_s"], clock["compile_s"])
+    return cost

@@ -1,7 +1,6 @@
 """The ETA of `reproduce`: each remaining run's cost from its algorithm, task and steps, at the rates of the runs done."""
 
 import dataclasses
-import json
 from pathlib import Path
 
 import pytest
@@ -9,26 +8,13 @@ import pytest
 from mjx_badger import eta
 from mjx_badger.train import TrainConfig
 
-QUICK = Path(__file__).parent.parent / "figures" / "data" / "quick" / "thesis-code"
-SMOKE = Path(__file__).parent.parent / "benchmarks" / "results" / "smoke_profile_time.json"
-
-
-def _measured_costs(profile: str) -> dict:
-    """(training s, compile s) of each run as it went here: quick's committed results, a fresh clone's smoke profile."""
-    if profile == "smoke":
-        runs = json.loads(SMOKE.read_text())["runs"]
-        return {name: (run["run_s"], run["compile_s"]) for name, run in runs.items()}
-    cost = {}
-    for path in QUICK.glob("*/*.json"):
-        clock = json.loads(path.read_text())["wall_clock"]
-        cost[f"{path.parent.name}/{path.name}"] = (clock["run_s"], clock["compile_s"])
-    return cost
+ROOT = Path(__file__).parent.parent
 
 
 @pytest.mark.parametrize("profile", ["quick", "smoke"])
 def test_after_the_first_run_the_eta_is_within_25_percent_of_the_time_left(profile):
     """Replayed on what the profile's runs cost on this machine, run after run."""
-    cost = _measured_costs(profile)
+    cost = eta.measured_costs(profile, ROOT)
     runs = [(plan, (0.0, 0.0) if plan.copy else cost[name]) for name, plan, _ in eta.profile_plan(profile)]
     for k, (left, actual) in enumerate(eta.replay(runs), start=1):
         assert left == pytest.approx(actual, rel=0.25), f"after run {k}"
