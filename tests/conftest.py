@@ -97,6 +97,14 @@ def env_fns(env):
 
 
 @pytest.fixture(scope="session")
+def cpg_code_env():
+    """CPG-D on the forward task under the thesis-code protocol, with its jitted reset and step: one program
+    for the tests of several files (in another process, the compile cache has it)."""
+    env = HB40Env("cpg-d", "forward", EnvConfig())
+    return env, jax.jit(env.reset), jax.jit(env.step)
+
+
+@pytest.fixture(scope="session")
 def trainer():
     return make_train(TINY_TRAIN)
 

@@ -70,10 +70,9 @@ def test_cpg_observation_carries_feet_and_phase_under_the_text():
     np.testing.assert_allclose(state.obs[48:51], [0.5, 0.0, 0.0])
 
 
-def test_cpg_observation_carries_the_action_and_swing_heights_under_the_code():
+def test_cpg_observation_carries_the_action_and_swing_heights_under_the_code(cpg_code_env):
     """The released CPG observes its scaled action (/3.14) and the two swing heights, [0, pi] at reset."""
-    env = HB40Env("cpg-d", "forward", SMOKE)
-    reset, step = jax.jit(env.reset), jax.jit(env.step)
+    env, reset, step = cpg_code_env
     state = reset(jax.random.PRNGKey(0))
     np.testing.assert_allclose(state.obs[54:56], [0.0, np.pi], atol=1e-6)
     state = step(state, jnp.ones(env.action_size))

@@ -104,12 +104,6 @@ def test_joint_velocity_is_clipped_to_25_rad_s_under_the_code(env, env_fns):
     assert float(jnp.abs(state.info["next_obs"][12:24]).max()) <= 25.0 / 25 + 1e-5  # observed as qdot / 25
 
 
-@pytest.fixture(scope="module")
-def cpg_code_env():
-    env = HB40Env("cpg-d", "forward", EnvConfig(protocol=CODE))
-    return env, jax.jit(env.reset), jax.jit(env.step)
-
-
 def test_cpg_under_the_code_never_terminates_but_counts_the_would_be_fall(cpg_code_env):
     env, reset, step = cpg_code_env
     state = reset(jax.random.PRNGKey(0))

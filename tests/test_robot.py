@@ -10,7 +10,6 @@ import mujoco
 import numpy as np
 
 from mjx_badger import actions, kinematics, mjcf, motors, protocols, robot
-from mjx_badger.env import EnvConfig, HB40Env
 
 with contextlib.redirect_stdout(io.StringIO()):
     from mujoco import mjx
@@ -134,33 +133,35 @@ def test_native_mujoco_stands_still_for_10_s():
     assert slide < MAX_FOOT_SLIDE_M, f"a foot slid {slide * 1000:.1f} mm"
 
 
-def _rollout(env, seconds):
-    reset, step = jax.jit(env.reset), jax.jit(env.step)
+def _rollout(env, reset, step, steps):
+    """`steps` steps at zero action from reset: (final state, trunk heights, largest tilt per step)."""
     state = reset(jax.random.PRNGKey(0))
     heights, tilts = [], []
-    for _ in range(int(seconds * env.control_hz)):
+    for _ in range(steps):
         state = step(state, jnp.zeros(env.action_size))
         heights.append(float(state.metrics["height"]))
         tilts.append(float(jnp.abs(state.obs[51:53]).max()))  # projected gravity x, y = sin(tilt)
     return state, np.array(heights), np.array(tilts)
 
 
-def test_mjx_zero_action_stands_for_10_s(env):
+def test_mjx_zero_action_stands_for_10_s(env, env_fns):
     """JT at zero action under the thesis-code protocol (Kp 25 / Kd 1, 50 Hz): no fall, level, in place.
 
     The soft gains let the trunk pitch a few degrees on landing from the 4.4 cm drop, hence 0.1 rad.
     """
-    state, heights, tilts = _rollout(env, STAND_SECONDS)
+    state, heights, tilts = _rollout(env, *env_fns, int(STAND_SECONDS * env.control_hz))
     assert int(state.info["would_falls"]) == 0
     assert heights[-100:].min() > 0.22, f"trunk sank to {heights.min():.3f} m"
     assert tilts.max() < 0.1
     assert abs(float(state.pipeline_state.qpos[0])) < 0.05, "trunk drifted in x"
 
 
-def test_mjx_cpg_at_zero_action_trots_in_place_for_10_s():
-    """CPG-D at zero action (thesis-code): the trot keeps the trunk near 0.30 m, upright, never a would-be fall."""
-    env = HB40Env("cpg-d", "forward", EnvConfig(protocol=protocols.THESIS_CODE.replace(episode_seconds=20.0)))
-    state, heights, tilts = _rollout(env, STAND_SECONDS)
+def test_mjx_cpg_at_zero_action_trots_in_place_for_10_s(cpg_code_env):
+    """CPG-D at zero action (thesis-code): the trot keeps the trunk near 0.30 m, upright, never a would-be fall,
+    over the protocol's whole 10-s episode but its last step (which would end it and reset the robot)."""
+    env = cpg_code_env[0]
+    assert env.episode_steps == int(STAND_SECONDS * env.control_hz)
+    state, heights, tilts = _rollout(*cpg_code_env, env.episode_steps - 1)
     assert int(state.info["would_falls"]) == 0
     assert 0.25 < heights[-200:].mean() < 0.33, f"trunk at {heights[-200:].mean():.3f} m"
     assert tilts.max() < 0.3

@@ -205,27 +205,34 @@ LEARNING_RATE = "algo_params.learning_rate"
 
 
 def test_a_swept_run_equals_the_separate_runs_number_for_number(tmp_path, alone):
-    """Two learning rates in one program (the rate an array in the carry): each member is its separate run."""
+    """Two learning rates in one program (the rate an array in the carry): the member at the tiny run's own rate
+    is that separate run, number for number, and each member's numbers follow its value, not its place (the
+    grid again in the other order, the same program: nothing compiles twice)."""
     rate = TINY_TRAIN.agent_config.learning_rate
     documents = sweep.run(TINY_TRAIN, ((LEARNING_RATE, (rate, 3 * rate)),), [0], tmp_path / "sweep", progress=False,
                           tensorboard=False)
-    other = tmp_path / "other" / f"{TINY_TRAIN.name}.json"
-    runner.run(sweep.with_values(TINY_TRAIN, [LEARNING_RATE], [3 * rate]), [0], other, progress=False,
-               tensorboard=False)
-    separate = [alone[0], (results.read(other), other)]
+    reversed_order = sweep.run(TINY_TRAIN, ((LEARNING_RATE, (3 * rate, rate)),), [0], tmp_path / "reversed",
+                               progress=False, tensorboard=False)
     written = sorted((tmp_path / "sweep").glob("*.json"))
     assert [path.name for path in written] == [f"{TINY_TRAIN.name}_learning_rate={rate:g}.json",
                                                f"{TINY_TRAIN.name}_learning_rate={3 * rate:g}.json"]
-    for path, document, (own, own_path) in zip(written, documents, separate):
-        swept = results.read(path)
-        assert swept["sweep"] == {"fields": [LEARNING_RATE], "values": document["sweep"]["values"], "members": 2,
-                                  "vmapped": 1}
-        assert_same_numbers(swept, [own])
-        with np.load(path.with_suffix(".policy.npz")) as mine, np.load(own_path.with_suffix(".policy.npz")) as theirs:
-            assert sorted(mine.files) == sorted(theirs.files)
-            for name in mine.files:
-                if mine[name].dtype.kind == "f":
-                    np.testing.assert_array_equal(mine[name], theirs[name], err_msg=name)
+    swept = [results.read(path) for path in written]
+    for document, own in zip(swept, documents):
+        assert document["sweep"] == {"fields": [LEARNING_RATE], "values": own["sweep"]["values"], "members": 2,
+                                     "vmapped": 1}
+    assert_same_numbers(swept[0], [alone[0][0]])
+    with np.load(written[0].with_suffix(".policy.npz")) as mine, \
+            np.load(alone[0][1].with_suffix(".policy.npz")) as theirs:
+        assert sorted(mine.files) == sorted(theirs.files)
+        for name in mine.files:
+            if mine[name].dtype.kind == "f":
+                np.testing.assert_array_equal(mine[name], theirs[name], err_msg=name)
+    for document in swept:  # the same value in the other place: the same numbers
+        value = document["sweep"]["values"]
+        other = next(path for path in (tmp_path / "reversed").glob("*.json")
+                     if results.read(path)["sweep"]["values"] == value)
+        assert_same_numbers(results.read(other), [document])
+    assert [d["sweep"]["values"] for d in reversed_order] == [d["sweep"]["values"] for d in documents][::-1]
     # The swept value took effect: the members learned differently.
     assert documents[0]["metrics"]["train/critic_loss"][-1] != documents[1]["metrics"]["train/critic_loss"][-1]
 
