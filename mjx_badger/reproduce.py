@@ -77,11 +77,6 @@ def announce(args, todo: list) -> list:
     return work
 
 
-PREFETCH_RUNS = 2
-"""Runs whose programs compile in the background while the one before them runs (runner.prefetch): XLA's
-compile keeps about 1.4 of this 2-core CPU's cores busy, so two compiles at once finish sooner."""
-
-
 def run_all(args, folder: Path, todo: list, work: list) -> None:
     """Train the planned runs one after another (a run another experiment shares is copied), with the time left."""
     from mjx_badger import cluster, eta, results, runner, stops, tensorboard
@@ -112,9 +107,6 @@ def run_all(args, folder: Path, todo: list, work: list) -> None:
             if tensorboard.folder(twin).is_dir():
                 shutil.copytree(tensorboard.folder(twin), tensorboard.folder(path), dirs_exist_ok=True)
             continue
-        trained_next = [later for later, plan in zip(configs[index + 1:], plans[index + 1:]) if not plan.copy]
-        for later in trained_next[:PREFETCH_RUNS]:  # compiling while this run compiles and trains
-            runner.prefetch(later, profile.seeds)
         document = runner.run(config, seeds, path, progress=runner.progress_wanted(), resume=not args.force,
                               tensorboard=args.tensorboard)
         # A resumed run trained only part of its work here: its rate is not this machine's.

@@ -7,7 +7,6 @@ import shutil
 import json
 import os
 import sys
-import threading
 import time
 from pathlib import Path
 from typing import Callable, NamedTuple
@@ -77,65 +76,20 @@ class Program(NamedTuple):
 
 
 def program(trainer, num_seeds: int) -> tuple[Program, float]:
-    """(`trainer`'s program for `num_seeds` seeds, seconds spent compiling it now: 0 when this process had it;
-    for a program `prefetch` is compiling, the seconds spent waiting for it)."""
+    """(`trainer`'s program for `num_seeds` seeds, seconds spent compiling it now: 0 when this process had it)."""
     key = (trainer.config, num_seeds)
-    t0 = time.perf_counter()
-    with _LOCK:
-        pending = _COMPILING.get(key)
-    if pending is not None and pending is not threading.current_thread():
-        pending.join()
-    with _LOCK:
-        if key in _PROGRAMS:
-            _PROGRAMS.move_to_end(key)
-            return _PROGRAMS[key], (time.perf_counter() - t0 if pending is not None else 0.0)
+    if key in _PROGRAMS:
+        _PROGRAMS.move_to_end(key)
+        return _PROGRAMS[key], 0.0
     init = jax.jit(jax.vmap(trainer.init))
     carry = jax.eval_shape(init, jax.vmap(jax.random.PRNGKey)(jnp.arange(num_seeds)))
     t0 = time.perf_counter()
     chunk = jax.jit(seeds_chunk(trainer, num_seeds), donate_argnums=0).lower(carry, 0).compile()
     built = Program(init, chunk, jax.jit(jax.vmap(trainer.gait)))
-    with _LOCK:
-        _PROGRAMS[key] = built
-        while len(_PROGRAMS) > KEPT_PROGRAMS:
-            _PROGRAMS.popitem(last=False)
+    _PROGRAMS[key] = built
+    while len(_PROGRAMS) > KEPT_PROGRAMS:
+        _PROGRAMS.popitem(last=False)
     return built, time.perf_counter() - t0
-
-
-# Programs `prefetch` is compiling in the background, by (config, seed count); _LOCK guards both tables.
-_COMPILING: dict = {}
-_LOCK = threading.Lock()
-
-
-def prefetch(config: TrainConfig, num_seeds: int) -> None:
-    """Compile `config`'s programs for `num_seeds` seeds in a background thread, for a run that comes later in
-    this process: XLA compiles there while the run at hand trains (or compiles), and that run then takes them
-    (`program`). The same programs, so the same numbers. Nothing on several devices or processes, where each
-    device compiles its own."""
-    key = (config, num_seeds)
-    if jax.process_count() > 1 or seed_sharding(num_seeds) is not None:
-        return
-    with _LOCK:
-        if key in _PROGRAMS or key in _COMPILING:
-            return
-        thread = threading.Thread(target=_compile_quietly, args=(config, num_seeds), daemon=True,
-                                  name=f"prefetch {config.name}")
-        _COMPILING[key] = thread
-    thread.start()
-
-
-def _compile_quietly(config: TrainConfig, num_seeds: int) -> None:
-    """`prefetch`'s thread: the run's chunk, and its init and gait record into jit's cache; a failure here is
-    left for the run itself to meet and report."""
-    try:
-        built, _ = program(make_train(config), num_seeds)
-        keys = jax.ShapeDtypeStruct((num_seeds, 2), jnp.uint32)
-        built.init.lower(keys).compile()
-        built.gait.lower(jax.eval_shape(built.init, keys)).compile()
-    except Exception:  # noqa: BLE001 - the run compiles again and raises it where it can be reported
-        pass
-    finally:
-        with _LOCK:
-            _COMPILING.pop((config, num_seeds), None)
 
 
 def compiled(trainer, seeds: list[int]):

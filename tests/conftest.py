@@ -117,12 +117,5 @@ def train_fns(trainer):
     return built.init, built.chunk
 
 
-def fake_training(monkeypatch, run) -> None:
-    """`run` stands in for runner.run, and reproduce's background compiles of the next runs are off: a test of
-    reproduce's bookkeeping trains and compiles nothing."""
-    monkeypatch.setattr("mjx_badger.runner.run", run)
-    monkeypatch.setattr("mjx_badger.runner.prefetch", lambda config, num_seeds: None)
-
-
 def seed_keys(seeds):
     return jax.vmap(jax.random.PRNGKey)(jnp.asarray(seeds))

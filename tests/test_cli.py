@@ -7,7 +7,6 @@ import sys
 
 import pytest
 
-from conftest import fake_training
 from mjx_badger.cli import main, parse
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.train import TrainConfig
@@ -119,7 +118,7 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
         ran.append(path.name)
         return {"wall_clock": {"run_s": 0.0}}
 
-    fake_training(monkeypatch, fake_run)
+    monkeypatch.setattr("mjx_badger.runner.run", fake_run)
     monkeypatch.setattr("mjx_badger.plots.draw", lambda *args, **kwargs: [])
     monkeypatch.setattr("mjx_badger.render.draw", lambda *args, **kwargs: [])
     monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])

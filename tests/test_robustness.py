@@ -13,7 +13,6 @@ from pathlib import Path
 import pytest
 
 import conftest
-from conftest import fake_training
 from mjx_badger import claims, locks, memory, safe_io, stops
 from mjx_badger.cli import main
 
@@ -215,7 +214,7 @@ def _fake_reproduce(monkeypatch, ran=None):
         (ran if ran is not None else []).append(path.name)
         return {"wall_clock": {"run_s": 0.0}}
 
-    fake_training(monkeypatch, fake_run)
+    monkeypatch.setattr("mjx_badger.runner.run", fake_run)
     monkeypatch.setattr("mjx_badger.render.draw", lambda *args, **kwargs: [])
 
 
@@ -318,7 +317,7 @@ def test_reproduce_stops_between_runs_on_sigterm_and_draws_nothing(tmp_path, mon
         os.kill(os.getpid(), signal.SIGTERM)
         return {"wall_clock": {"run_s": 0.0}}
 
-    fake_training(monkeypatch, run_then_signal)
+    monkeypatch.setattr("mjx_badger.runner.run", run_then_signal)
     assert main(["reproduce", "--profile", "smoke", "--experiments", "forward", "--results-dir",
                  str(tmp_path)]) == 128 + signal.SIGTERM
     err = capsys.readouterr().err
@@ -331,7 +330,7 @@ def test_a_run_stopped_by_a_signal_ends_reproduce_with_its_line(tmp_path, monkey
     def stopped(config, seeds, path, **kwargs):
         raise stops.Interrupted(signal.SIGINT, f"stopped by SIGINT at step 100 of 300: results in {path}")
 
-    fake_training(monkeypatch, stopped)
+    monkeypatch.setattr("mjx_badger.runner.run", stopped)
     assert main(["reproduce", "--profile", "smoke", "--experiments", "forward", "--results-dir",
                  str(tmp_path)]) == 130
     assert "stopped by SIGINT at step 100 of 300" in capsys.readouterr().err

@@ -1,6 +1,5 @@
 """The pure vmapped training loop: one trace, determinism, a smoke run, results files."""
 
-import collections
 import json
 import os
 import struct
@@ -58,32 +57,10 @@ def test_a_run_reuses_the_process_compiled_chunk_and_same_seed_gives_same_number
     since = len(COMPILES)
     runner.run(TINY_TRAIN, [5, 7], tmp_path / "third.json", progress=False, tensorboard=False)
     assert traced(since, "") == 0, COMPILES[since:]
-    _assert_same_numbers(first, document)
-
-
-def _assert_same_numbers(chunks: list, document: dict) -> None:
-    """The metrics of `chunks` (one dict per chunk, as the program returned them) are the results file's."""
-    for index, metrics in enumerate(chunks):
-        for name, values in metrics.items():
-            got = np.array(document["metrics"][name][index], float)
-            np.testing.assert_array_equal(np.asarray(values, float).round(5), got, err_msg=name)
-
-
-def test_a_prefetched_program_is_taken_by_its_run_and_gives_its_numbers(train_fns, tmp_path, monkeypatch):
-    """`reproduce` compiles the next runs' programs in a background thread (runner.prefetch): the run takes the
-    program that thread built, traces nothing of its own, and gives the numbers of the program built in line."""
-    _, first = _run_all_chunks(train_fns, [5, 7])
-    monkeypatch.setattr(runner, "_PROGRAMS", collections.OrderedDict())  # as if this process never built it
-    since = len(COMPILES)
-    runner.prefetch(TINY_TRAIN, 2)
-    runner.prefetch(TINY_TRAIN, 2)  # asked twice: built once
-    document = runner.run(TINY_TRAIN, [5, 7], tmp_path / "prefetched.json", progress=False, tensorboard=False)
-    assert not runner._COMPILING
-    # Chunk, initial carry and gait record each traced once, all in the prefetch thread.
-    assert [traced(since, name) for name in ("chunk", "init", "gait")] == [1, 1, 1], COMPILES[since:]
-    _assert_same_numbers(first, document)
-    runner.prefetch(TINY_TRAIN, 2)  # built already: nothing to do
-    assert not runner._COMPILING
+    second = [{name: np.array(values[i], float) for name, values in document["metrics"].items()} for i in range(3)]
+    for a, b in zip(first, second):
+        for name in a:
+            np.testing.assert_array_equal(np.asarray(a[name], float).round(5), b[name], err_msg=name)
 
 
 @pytest.mark.slow  # a learning program of its own: minutes of compile
