@@ -101,24 +101,29 @@ t0 = time.perf_counter()
 from mjx_badger import enable_compilation_cache, runner
 from mjx_badger.train import TrainConfig
 enable_compilation_cache(sys.argv[1])
+imported = time.perf_counter() - t0
 config = TrainConfig(approach="jt-oef", algo="crossq", task="forward", total_steps=20000)
 carry, chunk, compile_s = runner.compiled(runner.make_train(config), [0, 1])
+import jax; jax.block_until_ready(carry)
+starts = time.perf_counter() - t0
 carry, metrics = chunk(carry, 0)
-import jax; jax.block_until_ready(metrics)
-print(time.perf_counter() - t0, compile_s)
+jax.block_until_ready(metrics)
+print(imported, starts, time.perf_counter() - t0, compile_s)
 """
 
 
 def first_chunk_times() -> dict:
     """A quick JT-OEF CrossQ `train` of 2 seeds to the end of its first chunk, twice in two processes sharing a
-    cache folder: seconds from the process start, and the compile seconds the runner measured."""
+    cache folder: seconds from the process start to the imports done, to the first chunk's start (its initial
+    carry ready) and to its end, and the compile seconds the runner measured."""
     with tempfile.TemporaryDirectory() as cache:
         runs = []
         for _ in range(2):
             done = subprocess.run([sys.executable, "-c", FIRST_CHUNK, cache], capture_output=True, text=True,
                                   check=True)
-            total, compile_s = map(float, done.stdout.split()[-2:])
-            runs.append({"to_first_chunk_s": round(total, 2), "compile_s": round(compile_s, 2)})
+            imported, starts, total, compile_s = map(float, done.stdout.split()[-4:])
+            runs.append({"imports_s": round(imported, 2), "to_first_chunk_start_s": round(starts, 2),
+                         "to_first_chunk_s": round(total, 2), "compile_s": round(compile_s, 2)})
     return {"empty_cache": runs[0], "warm_cache": runs[1]}
 
 
@@ -145,7 +150,16 @@ def main():
     parser.add_argument("--compile-log", type=Path, help="the MJX_BADGER_COMPILE_LOG folder of that run")
     parser.add_argument("--only", choices=tuple(CONFIGS), help="one configuration shape")
     parser.add_argument("--note", default="", help="what else ran on the machine")
+    parser.add_argument("--first-chunk-only", action="store_true",
+                        help="time only the first chunk with an empty and a warm cache; update it in --out")
     args = parser.parse_args()
+    if args.first_chunk_only:
+        measured = json.loads(args.out.read_text())
+        measured["first_chunk"] = dict(first_chunk_times(), date=results.now(), git_commit=results.git_commit(),
+                                       note=args.note)
+        args.out.write_text(json.dumps(measured, indent=1) + "\n")
+        print("first chunk", measured["first_chunk"])
+        return
     jax.config.update("jax_enable_compilation_cache", False)  # measure XLA, not the disk
     measured = {"what": __doc__.splitlines()[0], "date": results.now(), "git_commit": results.git_commit(),
                 "hardware": results.hardware(), "note": args.note, "seeds": SEEDS,
