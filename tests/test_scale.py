@@ -207,7 +207,7 @@ LEARNING_RATE = "algo_params.learning_rate"
 def test_a_swept_run_equals_the_separate_runs_number_for_number(tmp_path, alone):
     """Two learning rates in one program (the rate an array in the carry): the member at the tiny run's own rate
     is that separate run, number for number, and each member's numbers follow its value, not its place (the
-    grid again in the other order, the same program: nothing compiles twice)."""
+    grid again in the other order: its chunk, the costly program, comes from the cache)."""
     rate = TINY_TRAIN.agent_config.learning_rate
     documents = sweep.run(TINY_TRAIN, ((LEARNING_RATE, (rate, 3 * rate)),), [0], tmp_path / "sweep", progress=False,
                           tensorboard=False)
@@ -227,11 +227,15 @@ def test_a_swept_run_equals_the_separate_runs_number_for_number(tmp_path, alone)
         for name in mine.files:
             if mine[name].dtype.kind == "f":
                 np.testing.assert_array_equal(mine[name], theirs[name], err_msg=name)
-    for document in swept:  # the same value in the other place: the same numbers
+    for path, document in zip(written, swept):  # the same value in the other place: the same numbers and policy
         value = document["sweep"]["values"]
-        other = next(path for path in (tmp_path / "reversed").glob("*.json")
-                     if results.read(path)["sweep"]["values"] == value)
+        other = next(other for other in (tmp_path / "reversed").glob("*.json")
+                     if results.read(other)["sweep"]["values"] == value)
         assert_same_numbers(results.read(other), [document])
+        with np.load(path.with_suffix(".policy.npz")) as mine, np.load(other.with_suffix(".policy.npz")) as theirs:
+            for name in mine.files:
+                if mine[name].dtype.kind == "f":
+                    np.testing.assert_array_equal(mine[name], theirs[name], err_msg=name)
     assert [d["sweep"]["values"] for d in reversed_order] == [d["sweep"]["values"] for d in documents][::-1]
     # The swept value took effect: the members learned differently.
     assert documents[0]["metrics"]["train/critic_loss"][-1] != documents[1]["metrics"]["train/critic_loss"][-1]
