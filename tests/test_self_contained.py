@@ -5,7 +5,8 @@ import subprocess
 from pathlib import Path
 
 ROOT = Path(__file__).parent.parent
-OUTSIDE = ("../shared", "THESIS_CODE.md", "DESIGN.md")
+# Spelled in parts so that this file, too, holds none of them whole.
+OUTSIDE = ("../" + "shared", "THESIS_CODE" + ".md", "DESIGN" + ".md")
 SUFFIXES = (".py", ".md", ".toml", ".cfg", ".txt", ".yml", ".yaml")
 # A Markdown link or image target: ](target) or ](target "title").
 LINK = re.compile(r"\]\(([^)\s]+)")
@@ -22,7 +23,7 @@ def test_no_file_refers_outside_the_repository():
         path = ROOT / name
         if path.suffix in SUFFIXES or path.name in ("Makefile",) or name.startswith("docs/"):
             text = path.read_text(errors="ignore")
-            found += [f"{name}: {needle}" for needle in OUTSIDE if needle in text and path != Path(__file__)]
+            found += [f"{name}: {needle}" for needle in OUTSIDE if needle in text]
     assert not found, found
 
 
