@@ -51,6 +51,15 @@ def assert_same_numbers(document: dict, separate: list[dict]) -> None:
         assert document["gait"][name] == sum((one["gait"][name] for one in separate), [])
 
 
+def assert_same_policy(path, other) -> None:
+    """The saved policies beside two results files hold the same arrays, float ones to the bit."""
+    with np.load(path.with_suffix(".policy.npz")) as mine, np.load(other.with_suffix(".policy.npz")) as theirs:
+        assert sorted(mine.files) == sorted(theirs.files)
+        for name in mine.files:
+            if mine[name].dtype.kind == "f":
+                np.testing.assert_array_equal(mine[name], theirs[name], err_msg=name)
+
+
 def test_seeds_sharded_over_two_devices_give_the_numbers_of_one_device(tmp_path, alone):
     """Each device runs the one-device program of its seeds: 2 seeds on 2 devices are two one-seed runs."""
     done = _train(tmp_path / "sharded", 2, TWO_CPU_DEVICES)
@@ -221,21 +230,13 @@ def test_a_swept_run_equals_the_separate_runs_number_for_number(tmp_path, alone)
         assert document["sweep"] == {"fields": [LEARNING_RATE], "values": own["sweep"]["values"], "members": 2,
                                      "vmapped": 1}
     assert_same_numbers(swept[0], [alone[0][0]])
-    with np.load(written[0].with_suffix(".policy.npz")) as mine, \
-            np.load(alone[0][1].with_suffix(".policy.npz")) as theirs:
-        assert sorted(mine.files) == sorted(theirs.files)
-        for name in mine.files:
-            if mine[name].dtype.kind == "f":
-                np.testing.assert_array_equal(mine[name], theirs[name], err_msg=name)
+    assert_same_policy(written[0], alone[0][1])
     for path, document in zip(written, swept):  # the same value in the other place: the same numbers and policy
         value = document["sweep"]["values"]
         other = next(other for other in (tmp_path / "reversed").glob("*.json")
                      if results.read(other)["sweep"]["values"] == value)
         assert_same_numbers(results.read(other), [document])
-        with np.load(path.with_suffix(".policy.npz")) as mine, np.load(other.with_suffix(".policy.npz")) as theirs:
-            for name in mine.files:
-                if mine[name].dtype.kind == "f":
-                    np.testing.assert_array_equal(mine[name], theirs[name], err_msg=name)
+        assert_same_policy(path, other)
     assert [d["sweep"]["values"] for d in reversed_order] == [d["sweep"]["values"] for d in documents][::-1]
     # The swept value took effect: the members learned differently.
     assert documents[0]["metrics"]["train/critic_loss"][-1] != documents[1]["metrics"]["train/critic_loss"][-1]
