@@ -39,8 +39,14 @@ def interval(save_s: float, chunk_s: float) -> int:
 
 
 def _sized(leaves: list) -> dict:
-    """The leaves orbax can store, by position: it refuses empty arrays (an MJX state has some), which restore as they are."""
+    """The leaves orbax can store, by position: it refuses empty arrays (an MJX state has some), which restore as new empty arrays."""
     return {str(i): leaf for i, leaf in enumerate(leaves) if np.size(leaf)}
+
+
+def _empty_like(leaf):
+    """A new empty array of `leaf`'s shape and placement: the restored carry shares no buffer with its template,
+    which a compiled chunk may donate."""
+    return jax.device_put(np.zeros(leaf.shape, leaf.dtype), leaf.sharding) if hasattr(leaf, "sharding") else leaf
 
 
 class Checkpoints:
@@ -86,7 +92,8 @@ class Checkpoints:
         for step in sorted(self.manager.all_steps(), reverse=True):
             try:
                 stored = self.manager.restore(step, args=ocp.args.StandardRestore(abstract))
-                return step, structure.unflatten([stored.get(str(i), leaf) for i, leaf in enumerate(leaves)])
+                return step, structure.unflatten([stored.get(str(i)) if str(i) in stored else _empty_like(leaf)
+                                                  for i, leaf in enumerate(leaves)])
             except Exception as error:  # a damaged checkpoint: fall back to the one before
                 warnings.warn(f"checkpoint {self.path / str(step)} cannot be read ({error}); trying an older one")
         return None

@@ -104,15 +104,22 @@ def compiled(trainer, seeds: list[int]):
     # one device running them); the carry and metrics are global arrays sharded on the seed axis. An
     # SPMD program (jit or shard_map over the mesh) fuses differently and rounds differently. With
     # several processes (jax.distributed), each runs the programs of its own devices only.
+    # Each device's program is lowered from shapes with that device as the default, as `program` lowers a
+    # one-device run (the module's text is the same), and donates its carry as that one does. Where JAX's
+    # compile cache leaves the device out of its key (on GPUs), the devices after the first load the first's.
     devices = list(sharding.mesh.devices.flat)
     local = len(seeds) // len(devices)
     mine = [(i, device) for i, device in enumerate(devices) if device.process_index == jax.process_index()]
-    parts = [init(jax.device_put(keys[i * local:(i + 1) * local], device)) for i, device in mine]
+    per_device = jax.jit(seeds_chunk(trainer, local), donate_argnums=0)
+    shapes = jax.eval_shape(init, keys[:local])
+    parts, programs, compile_s = [], [], 0.0
+    for i, device in mine:
+        with jax.default_device(device):
+            parts.append(init(keys[i * local:(i + 1) * local]))
+            t0 = time.perf_counter()
+            programs.append(per_device.lower(shapes, 0).compile())
+            compile_s += time.perf_counter() - t0
     devices = [device for _, device in mine]
-    per_device = jax.jit(seeds_chunk(trainer, local))
-    t0 = time.perf_counter()
-    programs = [per_device.lower(part, 0).compile() for part in parts]
-    compile_s = time.perf_counter() - t0
 
     def chunk(carry, start):
         outputs = [run(part, start) for run, part in zip(programs, _per_device(carry, devices))]
