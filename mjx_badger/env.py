@@ -224,7 +224,7 @@ class HB40Env(Env):
 
         # The torque carry starts from `target` so that under vmap it is batched from the start: an unbatched
         # carry that turns batched makes vmap batch the whole MJX step a second time (seconds of tracing).
-        (data, torque), (trace, imu) = jax.lax.scan(physics_step, (state.pipeline_state, 0.0 * target),
+        (data, torque), (trace, imu) = jax.lax.scan(physics_step, (state.pipeline_state, 0.0 * target[:12]),
                                                     jnp.arange(self.substeps))
         acceleration = None if imu is None else jnp.mean(imu, axis=0)
         state = self.end_step(state, data, action_state, target, torque, keys[0], acceleration)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from mjx_badger import actions, protocols
+from mjx_badger.conditions import CONDITIONS
 from mjx_badger.env import EnvConfig, HB40Env
 from mjx_badger.experiments import THESIS_APPROACHES
 
@@ -99,3 +100,16 @@ def test_curricula_live_in_the_env_state_per_seed_and_survive_resets():
     for seed in range(SEEDS):
         assert np.asarray(done)[seed].sum() >= 2
         assert len({tuple(c.round(5)) for c in np.asarray(commands)[seed]}) >= 2  # a fresh command every episode
+
+
+@pytest.mark.parametrize("protocol", [protocols.THESIS_CODE, protocols.THESIS_TEXT], ids=lambda p: p.name)
+@pytest.mark.parametrize("conditions", ["sim", "outdoor"])
+def test_every_approach_steps_under_each_protocol_and_condition(protocol, conditions):
+    """Traced, not compiled: each approach's step keeps its shapes (CPG-RT under the text drives 24 actuators).
+    The outdoor conditions hold every field the office's do (estimate, stop, resets, the robot's controller) and
+    the cobblestones besides."""
+    for approach in THESIS_APPROACHES:
+        env = HB40Env(approach, "forward", EnvConfig(protocol=protocol, conditions=CONDITIONS[conditions]))
+        state = jax.eval_shape(env.reset, jax.random.PRNGKey(0))
+        stepped = jax.eval_shape(env.step, state, jnp.zeros(env.action_size))
+        assert stepped.obs.shape == state.obs.shape == (env.observation_size,), approach
