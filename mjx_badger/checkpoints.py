@@ -92,7 +92,7 @@ class Checkpoints:
         for step in sorted(self.manager.all_steps(), reverse=True):
             try:
                 stored = self.manager.restore(step, args=ocp.args.StandardRestore(abstract))
-                return step, structure.unflatten([stored.get(str(i)) if str(i) in stored else _empty_like(leaf)
+                return step, structure.unflatten([stored[str(i)] if str(i) in stored else _empty_like(leaf)
                                                   for i, leaf in enumerate(leaves)])
             except Exception as error:  # a damaged checkpoint: fall back to the one before
                 warnings.warn(f"checkpoint {self.path / str(step)} cannot be read ({error}); trying an older one")

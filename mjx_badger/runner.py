@@ -103,10 +103,10 @@ def compiled(trainer, seeds: list[int]):
     # Each device runs the one-device program of its own seeds (the same HLO, so the same numbers as
     # one device running them); the carry and metrics are global arrays sharded on the seed axis. An
     # SPMD program (jit or shard_map over the mesh) fuses differently and rounds differently. With
-    # several processes (jax.distributed), each runs the programs of its own devices only.
-    # Each device's program is lowered from shapes with that device as the default, as `program` lowers a
-    # one-device run (the module's text is the same), and donates its carry as that one does. Where JAX's
-    # compile cache leaves the device out of its key (on GPUs), the devices after the first load the first's.
+    # several processes (jax.distributed), each runs the programs of its own devices only. Each device's
+    # program is lowered from shapes with that device as the default, as `program` lowers a one-device run
+    # (the same module text), and donates its carry as that one does; where JAX's compile cache leaves the
+    # device out of its key (on GPUs), the devices after the first load the first's.
     devices = list(sharding.mesh.devices.flat)
     local = len(seeds) // len(devices)
     mine = [(i, device) for i, device in enumerate(devices) if device.process_index == jax.process_index()]
