@@ -1,5 +1,7 @@
 """What a profile's runs cost on this machine, read from their results files: per run wall time, compile,
 training and peak memory, and the whole profile in CPU hours beside the estimate `reproduce` printed.
+A run's own hours are its compile, training and checkpoint seconds; its wall span (first start to last
+update) also counts pauses and, for a resumed run, the time between its attempts.
 
     python benchmarks/profile_time.py RESULTS/full/thesis-code --estimate-h 24.7 --rss-log rss.log \
         --out benchmarks/results/full_profile_time.json
@@ -33,12 +35,19 @@ def rss_peaks(log: Path | None, start: float, end: float) -> float | None:
     return round(max(found), 1) if found else None
 
 
+OWN_SECONDS = ("compile_s", "run_s", "checkpoint_s")
+"""A run's own seconds: a resumed run's wall span (first start to last update) also holds the gaps between
+its attempts, while its training seconds add up over them (its compile is that of its last attempt)."""
+
+
 def run_cost(path: Path, rss_log: Path | None) -> dict:
     document = results.read(path)
     clock = document["wall_clock"]
     start, end = seconds(clock["started"]), seconds(clock["updated"])
     return {"complete": document["complete"], "seeds": len(document["seeds"]), "steps": document["steps"][-1],
-            "wall_s": round(end - start, 1), "compile_s": clock.get("compile_s"), "training_s": clock.get("run_s"),
+            "wall_s": round(end - start, 1), "cost_s": round(sum(clock.get(k) or 0.0 for k in OWN_SECONDS), 1),
+            "resumed_at_step": clock.get("resumed_at_step"),
+            "compile_s": clock.get("compile_s"), "training_s": clock.get("run_s"),
             "checkpoint_s": clock.get("checkpoint_s"), "seed_steps_per_s": clock.get("seed_steps_per_s"),
             "peak_memory_mib_process": document.get("hardware", {}).get("peak_memory_mib"),
             "peak_memory_mib_sampled": rss_peaks(rss_log, start, end), "git_commit": document.get("git_commit")}
@@ -55,22 +64,23 @@ def main() -> None:
     args = parser.parse_args()
     runs = {str(p.relative_to(args.folder)): run_cost(p, args.rss_log) for p in sorted(args.folder.glob("*/*.json"))}
     done = [r for r in runs.values() if r["complete"]]
-    wall_h = sum(r["wall_s"] for r in done) / 3600
+    own_h = sum(r["cost_s"] for r in done) / 3600
     summary = {
         "what": "cost of each run of a profile on this machine, from its results files (benchmarks/profile_time.py)",
         "folder": str(args.folder), "date": datetime.date.today().isoformat(),
         "machine": f"{os.cpu_count()} CPU cores, no GPU", "note": args.note,
         "estimate_line": args.estimate_line, "estimate_h": args.estimate_h,
         "runs_complete": len(done), "runs_found": len(runs),
-        "wall_h_complete": round(wall_h, 2),
-        "cpu_hours_complete": round(wall_h * (os.cpu_count() or 1), 1),
+        "hours_complete": round(own_h, 2),
+        "cpu_hours_complete": round(own_h * (os.cpu_count() or 1), 1),
+        "wall_span_h_complete": round(sum(r["wall_s"] for r in done) / 3600, 2),
         "compile_s_median": statistics.median(r["compile_s"] for r in done) if done else None,
         "training_h_complete": round(sum(r["training_s"] for r in done) / 3600, 2),
         "runs": runs,
     }
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(summary, indent=1) + "\n")
-    print(f"{len(done)} of {len(runs)} runs complete: {wall_h:.2f} h wall"
+    print(f"{len(done)} of {len(runs)} runs complete: {own_h:.2f} h of their own"
           + (f" against an estimate of {args.estimate_h:.1f} h for all" if args.estimate_h else "") + f"; wrote {args.out}")
 
 
