@@ -62,15 +62,24 @@ def main() -> None:
     parser.add_argument("--note", default="", help="what else shared the machine (pauses, other jobs)")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
-    runs = {str(p.relative_to(args.folder)): run_cost(p, args.rss_log) for p in sorted(args.folder.glob("*/*.json"))}
-    done = [r for r in runs.values() if r["complete"]]
+    runs, first = {}, {}
+    for path in sorted(args.folder.glob("*/*.json"), key=lambda p: p.stat().st_mtime):  # a copy after its twin
+        name, document = str(path.relative_to(args.folder)), results.read(path)
+        runs[name] = run_cost(path, args.rss_log)
+        # reproduce copies a run two experiments share: the copy cost nothing of its own.
+        twin = first.setdefault(json.dumps([document["config"], document["seeds"], document["wall_clock"]]), name)
+        if twin != name:
+            runs[name].update(copy_of=twin, cost_s=0.0)
+    runs = dict(sorted(runs.items()))
+    done = [r for r in runs.values() if r["complete"] and "copy_of" not in r]
     own_h = sum(r["cost_s"] for r in done) / 3600
     summary = {
         "what": "cost of each run of a profile on this machine, from its results files (benchmarks/profile_time.py)",
         "folder": str(args.folder), "date": datetime.date.today().isoformat(),
         "machine": f"{os.cpu_count()} CPU cores, no GPU", "note": args.note,
         "estimate_line": args.estimate_line, "estimate_h": args.estimate_h,
-        "runs_complete": len(done), "runs_found": len(runs),
+        "runs_complete": len(done), "runs_copied": sum("copy_of" in r for r in runs.values()),
+        "runs_found": len(runs),
         "hours_complete": round(own_h, 2),
         "cpu_hours_complete": round(own_h * (os.cpu_count() or 1), 1),
         "wall_span_h_complete": round(sum(r["wall_s"] for r in done) / 3600, 2),

@@ -79,7 +79,7 @@ def announce(args, todo: list) -> list:
 
 def run_all(args, folder: Path, todo: list, work: list) -> None:
     """Train the planned runs one after another (a run another experiment shares is copied), with the time left."""
-    from mjx_badger import cluster, eta, results, runner, stops, tensorboard
+    from mjx_badger import cluster, eta, runner, stops
 
     profile = PROFILES[args.profile]
     updates = sum(work)
@@ -103,9 +103,7 @@ def run_all(args, folder: Path, todo: list, work: list) -> None:
             done.append(eta.Done(plans[index], 0.0, 0.0))
             if not cluster.writes():  # another process of a jax.distributed run copies it
                 continue
-            results.write(path, results.read(twin))
-            if tensorboard.folder(twin).is_dir():
-                shutil.copytree(tensorboard.folder(twin), tensorboard.folder(path), dirs_exist_ok=True)
+            copy_run(twin, path)
             continue
         document = runner.run(config, seeds, path, progress=runner.progress_wanted(), resume=not args.force,
                               tensorboard=args.tensorboard)
@@ -160,6 +158,19 @@ def measured_estimate(todo: list, args, seeds: int) -> str:
     rates = ", ".join(f"{algo} {m['seed_steps_per_s']:.0f} seed-steps/s" for algo, m in speed.items())
     return (f"measured here ({rates}; compile {max(m['compile_s'] for m in speed.values()):.0f} s at most): "
             f"about {seconds / 3600:.1f} h for these {len(todo)} runs")
+
+
+def copy_run(twin: Path, path: Path) -> None:
+    """`twin`'s results at `path`, with what lies beside them: the saved policy (`evaluate`, `render` and
+    `publish` read it), the agents and the event files."""
+    from mjx_badger import checkpoints, policy, results, tensorboard
+
+    results.write(path, results.read(twin))
+    if policy.path_for(twin).is_file():
+        shutil.copyfile(policy.path_for(twin), policy.path_for(path))
+    for folder in (checkpoints.agents_folder, tensorboard.folder):
+        if folder(twin).is_dir():
+            shutil.copytree(folder(twin), folder(path), dirs_exist_ok=True)
 
 
 def same_run(folder: Path, config, seeds, pattern: str | None = None):

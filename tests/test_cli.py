@@ -138,6 +138,31 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
     assert progress[1].startswith("run 2 of 2, 50 %") and progress[1].endswith("min left")
 
 
+def test_a_reused_run_brings_its_policy_and_agents(tmp_path, monkeypatch):
+    """The algorithm comparison reuses the forward experiment's CrossQ JT-NF run: the copy is evaluated and
+    published like its twin, so its saved policy and agents come with it."""
+    from mjx_badger import checkpoints, cli, policy, results
+    from mjx_badger.experiments import EXPERIMENTS
+
+    monkeypatch.setattr("mjx_badger.runner.run", lambda config, seeds, path, **kwargs: {"wall_clock": {"run_s": 0.0}})
+    monkeypatch.setattr("mjx_badger.plots.draw", lambda *args, **kwargs: [])
+    monkeypatch.setattr("mjx_badger.render.draw", lambda *args, **kwargs: [])
+    monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])
+    forward = EXPERIMENTS["forward"]
+    twin = tmp_path / "smoke" / "thesis-code" / "forward" / "jt-nf_crossq_forward.json"
+    results.write(twin, {"schema": results.SCHEMA, "config": results.config_dict(forward.train_config(
+        forward.runs[0], "smoke")), "seeds": [0, 1], "complete": True})
+    policy.path_for(twin).write_bytes(b"the policy")
+    checkpoints.agents_folder(twin).mkdir()
+    (checkpoints.agents_folder(twin) / "0.npz").write_bytes(b"an agent")
+    assert cli.main(["reproduce", "--profile", "smoke", "--experiments", "algo-comparison",
+                     "--results-dir", str(tmp_path), "--figures-dir", str(tmp_path / "fig")]) == 0
+    copy = tmp_path / "smoke" / "thesis-code" / "algo-comparison" / "jt-nf_crossq_forward.json"
+    assert results.read(copy)["complete"]
+    assert policy.path_for(copy).read_bytes() == b"the policy"
+    assert (checkpoints.agents_folder(copy) / "0.npz").read_bytes() == b"an agent"
+
+
 def test_realtime_refuses_what_a_robot_cannot_run(capsys):
     assert "cpg-rt-avg" in _fails(capsys, ["realtime", "--approach", "cpg-rt"])
     assert "unknown robot adapter 'hb50'; choose from simulated" in _fails(capsys, ["realtime", "--robot-adapter", "hb50"])
