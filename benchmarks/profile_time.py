@@ -36,12 +36,10 @@ def rss_peaks(log: Path | None, start: float, end: float) -> float | None:
 
 
 OWN_SECONDS = ("compile_s", "run_s", "checkpoint_s")
-"""A run's own seconds: a resumed run's wall span (first start to last update) also holds the gaps between
-its attempts, while its training seconds add up over them (its compile is that of its last attempt)."""
+"""A run's own seconds (module docstring); a resumed run's compile is that of its last attempt."""
 
 
-def run_cost(path: Path, rss_log: Path | None) -> dict:
-    document = results.read(path)
+def run_cost(document: dict, rss_log: Path | None) -> dict:
     clock = document["wall_clock"]
     start, end = seconds(clock["started"]), seconds(clock["updated"])
     return {"complete": document["complete"], "seeds": len(document["seeds"]), "steps": document["steps"][-1],
@@ -65,7 +63,7 @@ def main() -> None:
     runs, first = {}, {}
     for path in sorted(args.folder.glob("*/*.json"), key=lambda p: p.stat().st_mtime):  # a copy after its twin
         name, document = str(path.relative_to(args.folder)), results.read(path)
-        runs[name] = run_cost(path, args.rss_log)
+        runs[name] = run_cost(document, args.rss_log)
         # reproduce copies a run two experiments share: the copy cost nothing of its own.
         twin = first.setdefault(json.dumps([document["config"], document["seeds"], document["wall_clock"]]), name)
         if twin != name:

@@ -107,7 +107,15 @@ def test_a_run_shared_by_two_experiments_is_found_and_reused(tmp_path):
                      [0, 1]) is None
 
 
-def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_path, monkeypatch, capsys):
+@pytest.fixture
+def no_figures(monkeypatch):
+    """reproduce's bookkeeping alone: no figures, videos or scoreboard drawn after the runs."""
+    monkeypatch.setattr("mjx_badger.plots.draw", lambda *args, **kwargs: [])
+    monkeypatch.setattr("mjx_badger.render.draw", lambda *args, **kwargs: [])
+    monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])
+
+
+def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_path, monkeypatch, capsys, no_figures):
     from mjx_badger import cli, results
     from mjx_badger.experiments import EXPERIMENTS
 
@@ -119,9 +127,6 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
         return {"wall_clock": {"run_s": 0.0}}
 
     monkeypatch.setattr("mjx_badger.runner.run", fake_run)
-    monkeypatch.setattr("mjx_badger.plots.draw", lambda *args, **kwargs: [])
-    monkeypatch.setattr("mjx_badger.render.draw", lambda *args, **kwargs: [])
-    monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])
     folder = tmp_path / "smoke" / "thesis-code" / "forward"
     for index, run in enumerate(experiment.runs):
         config = experiment.train_config(run, "smoke")
@@ -138,16 +143,13 @@ def test_reproduce_skips_only_complete_results_of_the_same_configuration(tmp_pat
     assert progress[1].startswith("run 2 of 2, 50 %") and progress[1].endswith("min left")
 
 
-def test_a_reused_run_brings_its_policy_and_agents(tmp_path, monkeypatch):
+def test_a_reused_run_brings_its_policy_and_agents(tmp_path, monkeypatch, no_figures):
     """The algorithm comparison reuses the forward experiment's CrossQ JT-NF run: the copy is evaluated and
     published like its twin, so its saved policy and agents come with it."""
     from mjx_badger import checkpoints, cli, policy, results
     from mjx_badger.experiments import EXPERIMENTS
 
     monkeypatch.setattr("mjx_badger.runner.run", lambda config, seeds, path, **kwargs: {"wall_clock": {"run_s": 0.0}})
-    monkeypatch.setattr("mjx_badger.plots.draw", lambda *args, **kwargs: [])
-    monkeypatch.setattr("mjx_badger.render.draw", lambda *args, **kwargs: [])
-    monkeypatch.setattr("mjx_badger.claims.score", lambda *args: [])
     forward = EXPERIMENTS["forward"]
     twin = tmp_path / "smoke" / "thesis-code" / "forward" / "jt-nf_crossq_forward.json"
     results.write(twin, {"schema": results.SCHEMA, "config": results.config_dict(forward.train_config(
