@@ -35,15 +35,12 @@ def rss_peaks(log: Path | None, start: float, end: float) -> float | None:
     return round(max(found), 1) if found else None
 
 
-OWN_SECONDS = ("compile_s", "run_s", "checkpoint_s")
-"""A run's own seconds (module docstring); a resumed run's compile is that of its last attempt."""
-
 
 def run_cost(document: dict, rss_log: Path | None) -> dict:
     clock = document["wall_clock"]
     start, end = seconds(clock["started"]), seconds(clock["updated"])
     return {"complete": document["complete"], "seeds": len(document["seeds"]), "steps": document["steps"][-1],
-            "wall_s": round(end - start, 1), "cost_s": round(sum(clock.get(k) or 0.0 for k in OWN_SECONDS), 1),
+            "wall_s": round(end - start, 1), "cost_s": round(sum(clock.get(k) or 0.0 for k in results.OWN_SECONDS), 1),
             "resumed_at_step": clock.get("resumed_at_step"),
             "compile_s": clock.get("compile_s"), "training_s": clock.get("run_s"),
             "checkpoint_s": clock.get("checkpoint_s"), "seed_steps_per_s": clock.get("seed_steps_per_s"),
@@ -65,7 +62,7 @@ def main() -> None:
         name, document = str(path.relative_to(args.folder)), results.read(path)
         runs[name] = run_cost(document, args.rss_log)
         # reproduce copies a run two experiments share: the copy cost nothing of its own.
-        twin = first.setdefault(json.dumps([document["config"], document["seeds"], document["wall_clock"]]), name)
+        twin = first.setdefault(results.run_key(document), name)
         if twin != name:
             runs[name].update(copy_of=twin, cost_s=0.0)
     runs = dict(sorted(runs.items()))

@@ -252,21 +252,33 @@ def left_out_words(document: dict) -> str:
     return "; ".join(f"seed {g['seed']} left out: diverged at step {g['diverged_at_step']}" for g in gone)
 
 
+# A run's own seconds in its wall_clock (a resumed run's compile is its last attempt's); its span from started to
+# updated also holds the gaps between attempts.
+OWN_SECONDS = ("compile_s", "run_s", "checkpoint_s")
+
+
+def run_key(document: dict) -> str:
+    """What makes two results files one run: `reproduce` copies a run two experiments share, clock and all."""
+    return json.dumps([document["config"], document["seeds"], document.get("wall_clock")], sort_keys=True)
+
+
 def wall_time(folder: Path, experiments: tuple | None = None) -> dict:
     """Compile and run seconds summed over the complete results files under `folder` (under its `experiments`
-    subfolders only, if given)."""
+    subfolders only, if given), a copied run counted once."""
     # Not the run.json stamps inside a running or interrupted run's checkpoint folder.
     documents = [read_or_skip(path) for path in sorted(Path(folder).glob("**/*.json"))
                  if not any(part.endswith((".ckpt", ".agents")) for part in path.parent.parts)
                  and (experiments is None or path.relative_to(folder).parts[0] in experiments)]
-    clocks = [d.get("wall_clock") or {} for d in documents if d is not None and d.get("complete")]
-    return {"runs": len(clocks), "compile_s": sum(c.get("compile_s", 0.0) for c in clocks),
-            "run_s": sum(c.get("run_s", 0.0) for c in clocks)}
+    complete = [d for d in documents if d is not None and d.get("complete")]
+    clocks = [d.get("wall_clock") or {} for d in {run_key(d): d for d in complete}.values()]
+    return {"runs": len(clocks), "copies": len(complete) - len(clocks),
+            **{key: sum(c.get(key) or 0.0 for c in clocks) for key in OWN_SECONDS}}
 
 
 def wall_time_words(folder: Path, experiments: tuple | None = None) -> str:
     """'N runs in H h (compile M min)', for scoreboards, the README and docs/results.md."""
     time = wall_time(folder, experiments)
-    hours = (time["compile_s"] + time["run_s"]) / 3600
+    hours = sum(time[key] for key in OWN_SECONDS) / 3600
     runs = f"{time['runs']} run" + ("" if time["runs"] == 1 else "s")
-    return f"{runs} in {hours:.2f} h (compile {time['compile_s'] / 60:.1f} min of it)"
+    copies = f"; {time['copies']} more a copy of one of them" if time["copies"] else ""
+    return f"{runs} in {hours:.2f} h (compile {time['compile_s'] / 60:.1f} min of it{copies})"

@@ -107,6 +107,10 @@ def test_wall_time_passes_over_the_checkpoints_of_a_running_run(tmp_path):
     assert results.wall_time_words(folder) == "2 runs in 1.50 h (compile 1.0 min of it)"
     assert results.wall_time_words(folder, ("forward", "omni-pdec")) == "1 run in 1.00 h (compile 1.0 min of it)"
     assert results.wall_time_words(folder, ("real-office",)) == "1 run in 0.50 h (compile 0.0 min of it)"
+    # A run reproduce copied for a second experiment costs nothing of its own.
+    results.write(folder / "algo-comparison" / "jt-nf_crossq_forward.json", document)
+    assert results.wall_time_words(folder, ("forward", "algo-comparison")) == (
+        "1 run in 1.00 h (compile 1.0 min of it; 1 more a copy of one of them)")
 
 
 def test_the_budgets_board_puts_each_profile_beside_the_thesis(tmp_path, capsys):
