@@ -259,7 +259,7 @@ OWN_SECONDS = ("compile_s", "run_s", "checkpoint_s")
 
 def run_key(document: dict) -> str:
     """What makes two results files one run: `reproduce` copies a run two experiments share, clock and all."""
-    return json.dumps([document["config"], document["seeds"], document.get("wall_clock")], sort_keys=True)
+    return json.dumps([document.get("config"), document.get("seeds"), document.get("wall_clock")], sort_keys=True)
 
 
 def wall_time(folder: Path, experiments: tuple | None = None) -> dict:
@@ -270,7 +270,9 @@ def wall_time(folder: Path, experiments: tuple | None = None) -> dict:
                  if not any(part.endswith((".ckpt", ".agents")) for part in path.parent.parts)
                  and (experiments is None or path.relative_to(folder).parts[0] in experiments)]
     complete = [d for d in documents if d is not None and d.get("complete")]
-    clocks = [d.get("wall_clock") or {} for d in {run_key(d): d for d in complete}.values()]
+    # A file without a clock (a hand-made one) is its own run.
+    clocks = [d.get("wall_clock") or {} for d in {run_key(d) if d.get("wall_clock") else i: d
+                                                  for i, d in enumerate(complete)}.values()]
     return {"runs": len(clocks), "copies": len(complete) - len(clocks),
             **{key: sum(c.get(key) or 0.0 for c in clocks) for key in OWN_SECONDS}}
 
