@@ -35,7 +35,6 @@ def rss_peaks(log: Path | None, start: float, end: float) -> float | None:
     return round(max(found), 1) if found else None
 
 
-
 def run_cost(document: dict, rss_log: Path | None) -> dict:
     clock = document["wall_clock"]
     start, end = seconds(clock["started"]), seconds(clock["updated"])

@@ -263,8 +263,8 @@ def run_key(document: dict) -> str:
 
 
 def wall_time(folder: Path, experiments: tuple | None = None) -> dict:
-    """Compile and run seconds summed over the complete results files under `folder` (under its `experiments`
-    subfolders only, if given), a copied run counted once."""
+    """A run's own seconds (OWN_SECONDS) summed over the complete results files under `folder` (under its
+    `experiments` subfolders only, if given), a copied run counted once."""
     # Not the run.json stamps inside a running or interrupted run's checkpoint folder.
     documents = [read_or_skip(path) for path in sorted(Path(folder).glob("**/*.json"))
                  if not any(part.endswith((".ckpt", ".agents")) for part in path.parent.parts)
