@@ -43,34 +43,39 @@ def rss_peaks(log: Path | None, start: float, end: float) -> float | None:
     return round(max(found), 1) if found else None
 
 
+def starts_attempt(line: str) -> bool:
+    """Whether a pause-log line starts an attempt of the runs' process."""
+    return line.partition(" ")[2].startswith("START attempt")
+
+
 def pause_intervals(lines: list[str]) -> list[tuple[float, float]]:
     """The (stop, cont) times of every SIGSTOP of the runs' process that a SIGCONT ended."""
     intervals, state, stopped = [], "gone", 0.0
     for line in lines:
         stamp, _, rest = line.partition(" ")
         word = rest.split(" ", 1)[0]
-        if word == "START" and rest.startswith("START attempt"):
+        if starts_attempt(line):
             state = "running"
         elif word in ("RESTART", "STOPPED", "session", "DONE", "exit"):
             state = "gone"  # that process ended: a chunk it had not finished was never counted
         elif word == "STOP" and state == "running":
             state, stopped = "stopped", seconds(stamp)
+        elif word == "CONT" and state == "stopped" and " only" in rest:
+            state = "gone"  # another process went on; this one stayed stopped until it was killed
         elif word == "CONT" and state == "stopped":
-            # "CONT ... only" continued another process; this one stayed stopped until it was killed.
-            state = "gone" if " only" in rest else "running"
-            if state == "running":
-                intervals.append((stopped, seconds(stamp)))
+            state = "running"
+            intervals.append((stopped, seconds(stamp)))
     return intervals
 
 
-def paused_seconds(intervals: list[tuple[float, float]], start: float, end: float) -> float:
+def paused_seconds(intervals, start: float, end: float) -> float:
     """How much of [start, end] the pauses cover."""
     return sum(max(0.0, min(b, end) - max(a, start)) for a, b in intervals)
 
 
 def attempt_starts(lines: list[str]) -> list[float]:
     """When each attempt of the runs' process started ("START attempt" lines)."""
-    return [seconds(line.split(" ", 1)[0]) for line in lines if line.partition(" ")[2].startswith("START attempt")]
+    return [seconds(line.partition(" ")[0]) for line in lines if starts_attempt(line)]
 
 
 def run_cost(document: dict, rss_log: Path | None, pauses: list[tuple[float, float]] = (),
@@ -78,7 +83,7 @@ def run_cost(document: dict, rss_log: Path | None, pauses: list[tuple[float, flo
     clock = document["wall_clock"]
     start, end = seconds(clock["started"]), seconds(clock["updated"])
     own = round(sum(clock.get(k) or 0.0 for k in results.OWN_SECONDS), 1)
-    paused = round(paused_seconds(list(pauses), start, end), 1)
+    paused = round(paused_seconds(pauses, start, end), 1)
     one_attempt = not any(start < s < end for s in starts)
     return {"complete": document["complete"], "seeds": len(document["seeds"]), "steps": document["steps"][-1],
             "wall_s": round(end - start, 1), "cost_s": own, "paused_s": paused,
@@ -96,7 +101,7 @@ def main() -> None:
     parser.add_argument("--estimate-h", type=float, help="the estimate reproduce printed before the runs, hours")
     parser.add_argument("--estimate-line", help="that line as printed")
     parser.add_argument("--rss-log", type=Path)
-    parser.add_argument("--pauses", type=Path, help='log of "ISO_TIME STOP ..." / "ISO_TIME CONT ..." lines')
+    parser.add_argument("--pauses", type=Path, help="pause log of the runs' process (format above)")
     parser.add_argument("--note", default="", help="what else shared the machine (pauses, other jobs)")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
