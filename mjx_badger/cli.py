@@ -295,15 +295,23 @@ class Claims:
     budgets: tuple[Profile, ...] = ()
     """Score these profiles side by side instead (e.g. --budgets quick full), one protocol (thesis-code unless
     --protocol): one table, thesis | ours at each budget."""
+    plot: Optional[Path] = None
+    """With --budgets: also draw every experiment's headline curve and the falls at each budget into this image."""
 
     def check(self) -> None:
         if len(set(self.budgets)) != len(self.budgets):
             raise ValueError(f"--budgets names a profile twice: {' '.join(self.budgets)}")
-        for option, path in (("--json", self.json), ("--markdown", self.markdown)):
+        if self.plot is not None and len(self.budgets) < 2:
+            raise ValueError("--plot draws the budgets side by side: give --budgets with two profiles or more")
+        outputs = (("--json", self.json), ("--markdown", self.markdown), ("--plot", self.plot))
+        for option, path in outputs:
             if path is not None:
                 writable_file(path, option)
-        if self.json is not None and self.markdown is not None and self.json.resolve() == self.markdown.resolve():
-            raise ValueError("--json and --markdown name the same file")
+        named = [(option, path.resolve()) for option, path in outputs if path is not None]
+        for i, (option, path) in enumerate(named):
+            for other, other_path in named[i + 1:]:
+                if path == other_path:
+                    raise ValueError(f"{option} and {other} name the same file")
 
     def __call__(self) -> int:
         from mjx_badger import claims, real_world, results
@@ -345,6 +353,13 @@ class Claims:
             safe_io.write_text(self.markdown, f"Protocol: {protocol}\n\n" + claims.scoreboard_markdown(boards, "ours at {}")
                                + f"\nWall time on this machine: {times}.\n")
             print(f"wrote {self.markdown}")
+        if self.plot:
+            from mjx_badger import plots
+            from mjx_badger.analysis import load_experiment
+
+            loaded = {budget: {name: load_experiment(EXPERIMENTS[name], self.results_dir / budget / protocol / name)
+                               for name in GROUPS["simulation"]} for budget in self.budgets}
+            print(f"wrote {plots.budgets_figure(loaded, self.plot, protocol)}")
         if self.json:
             safe_io.write_text(self.json, json.dumps({name: [v.as_dict() for v in board]
                                                       for name, board in boards.items()}, indent=1))

@@ -20,12 +20,13 @@ from mjx_badger.realtime.report import SCHEMA as LOOP_SCHEMA  # noqa: E402
 from mjx_badger.tables import TABLES, released_code_table  # noqa: E402
 
 
-def _band(ax, x, values, color, label, style=None):
-    """Mean line with a min/max band over seeds."""
+def _band(ax, x, values, color, label, style=None, band=True):
+    """Mean line with a min/max band over seeds (or the mean line alone)."""
     with np.errstate(all="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN chunks (no episode ended) stay gaps
         ax.plot(x, np.nanmean(values, axis=1), **{"color": color, "label": label, "lw": 1.8, **(style or {})})
-        ax.fill_between(x, np.nanmin(values, axis=1), np.nanmax(values, axis=1), color=color, alpha=0.15, lw=0)
+        if band:
+            ax.fill_between(x, np.nanmin(values, axis=1), np.nanmax(values, axis=1), color=color, alpha=0.15, lw=0)
 
 
 def _x(document: dict, x_axis: str):
@@ -44,12 +45,12 @@ def _seeds_note(documents: dict) -> str:
 
 
 def curve_panel(ax, documents: dict, metric: str, title: str, ylabel: str, x_axis: str = "steps",
-                target: float | None = None, style=None):
+                target: float | None = None, style=None, band=True):
     """One panel of learning curves: `metric` of every run that has it."""
     for label, document in documents.items():
         if metric in document["metrics"]:
             _band(ax, _x(document, x_axis), series(document, metric), display_color(label), display_name(label),
-                  style)
+                  style, band)
     if target is not None:
         ax.axhline(target, color="k", ls="--", lw=1, label=f"target {target} m/s")
     ax.set_title(title, fontsize=10)
@@ -226,44 +227,93 @@ FIGURES = {
 """Figure kind (Experiment.figures) -> (experiment, its documents, out, title label, every experiment's) -> Path or None."""
 
 
+HEADLINE = {
+    "algo-comparison": ("train/forward_velocity", "algorithms (Fig 5.2): forward velocity", "minutes",
+                        EXPERIMENTS["algo-comparison"].target_velocity),
+    "forward": ("train/forward_velocity", f"forward {EXPERIMENTS['forward'].target_velocity} m/s (Fig 5.3): velocity",
+                "steps", EXPERIMENTS["forward"].target_velocity),
+    "forward-max": ("train/forward_velocity", "maximal velocity (Fig 5.6): velocity", "steps", None),
+    "omni-random": ("eval/desired_mae", "omni, random (Fig 5.9): desired MAE", "steps", None),
+    "omni-pdec": ("eval/desired_mae", "omni, PDEC (Fig 5.12): desired MAE", "steps", None),
+}
+"""Experiment -> (metric, title, x axis, target) of its one curve in the overview figures."""
+
+
+def _no_results_panel(ax, name: str, title: str, command: str) -> None:
+    """An empty panel that says which command would fill it."""
+    ax.text(0.5, 0.5, f"no {name} results yet:\n{command}", ha="center", va="center", fontsize=9, color="0.4",
+            transform=ax.transAxes)
+    ax.set_title(title, fontsize=10)
+    ax.set_xticks([])
+    ax.set_yticks([])
+
+
 def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
     """Everything at a glance: the headline curve of every experiment with results, and falls per approach."""
-    headline = {
-        "algo-comparison": ("train/forward_velocity", "algorithms (Fig 5.2): forward velocity", "minutes",
-                            EXPERIMENTS["algo-comparison"].target_velocity),
-        "forward": ("train/forward_velocity", f"forward {EXPERIMENTS['forward'].target_velocity} m/s (Fig 5.3): velocity",
-                    "steps", EXPERIMENTS["forward"].target_velocity),
-        "forward-max": ("train/forward_velocity", "maximal velocity (Fig 5.6): velocity", "steps", None),
-        "omni-random": ("eval/desired_mae", "omni, random (Fig 5.9): desired MAE", "steps", None),
-        "omni-pdec": ("eval/desired_mae", "omni, PDEC (Fig 5.12): desired MAE", "steps", None),
-    }
     fig, axes = plt.subplots(2, 3, figsize=(16, 9), constrained_layout=True)
     axes = axes.ravel()
-    for ax, (name, (metric, title, x_axis, target)) in zip(axes, headline.items()):
+    for ax, (name, (metric, title, x_axis, target)) in zip(axes, HEADLINE.items()):
         if not loaded.get(name):
-            ax.text(0.5, 0.5, f"no {name} results yet:\npython -m mjx_badger reproduce\n--profile {profile.split()[0]} "
-                    f"--experiments {name}", ha="center", va="center", fontsize=9, color="0.4", transform=ax.transAxes)
-            ax.set_title(title, fontsize=10)
-            ax.set_xticks([])
-            ax.set_yticks([])
+            _no_results_panel(ax, name, title, f"python -m mjx_badger reproduce\n--profile {profile.split()[0]} "
+                              f"--experiments {name}")
             continue
         curve_panel(ax, loaded[name], metric, title, "[m/s]", x_axis, target)
         ax.legend(fontsize=7)
-    falls_ax = axes[5]
-    experiments = [n for n in ("forward", "forward-max", "omni-random", "omni-pdec") if loaded.get(n)]
-    width = 0.8 / max(len(experiments), 1)
-    approaches = [a for a in APPROACHES if any(a in loaded[n] for n in experiments)]
-    for i, name in enumerate(experiments):
-        means = [summarize(loaded[name][a], None)["falls_mean"] if a in loaded[name] else np.nan for a in approaches]
-        falls_ax.bar(np.arange(len(approaches)) + i * width, means, width, label=name)
-    falls_ax.set_xticks(np.arange(len(approaches)) + width * (len(experiments) - 1) / 2,
-                        [display_name(a) for a in approaches], fontsize=8)
-    falls_ax.set_title("falls during training, mean over seeds", fontsize=10)
-    falls_ax.legend(fontsize=7)
-    falls_ax.grid(alpha=0.3, axis="y")
+    falls_panel(axes[5], {name: loaded[name] for name in ("forward", "forward-max", "omni-random", "omni-pdec")})
     every = {f"{name} {label}": d for name, documents in loaded.items() if documents for label, d in documents.items()}
     fig.suptitle(f"mjx_badger: every thesis simulation experiment at a glance ({profile}; {_seeds_note(every)})",
                  fontsize=12)
+    return _save(fig, out)
+
+
+def falls_panel(ax, runs: dict, hatches: dict | None = None) -> None:
+    """Bars of falls during training, mean over seeds, per approach: one bar per key of `runs` that has results
+    (an experiment, or an (experiment, budget) pair drawn with its budget's hatch)."""
+    runs = {key: documents for key, documents in runs.items() if documents}
+    width = 0.8 / max(len(runs), 1)
+    approaches = [a for a in APPROACHES if any(a in documents for documents in runs.values())]
+    experiments = list(dict.fromkeys(key[0] if isinstance(key, tuple) else key for key in runs))
+    for i, (key, documents) in enumerate(runs.items()):
+        name = key[0] if isinstance(key, tuple) else key
+        means = [summarize(documents[a], None)["falls_mean"] if a in documents else np.nan for a in approaches]
+        hatch = (hatches or {}).get(key[1]) if isinstance(key, tuple) else None
+        ax.bar(np.arange(len(approaches)) + i * width, means, width, color=f"C{experiments.index(name)}",
+               hatch=hatch, edgecolor="white" if hatch else None, label=" ".join(key) if isinstance(key, tuple) else key)
+    ax.set_xticks(np.arange(len(approaches)) + width * (len(runs) - 1) / 2, [display_name(a) for a in approaches],
+                  fontsize=8)
+    ax.set_title("falls during training, mean over seeds", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, axis="y")
+
+
+def budgets_figure(loaded: dict, out: Path, protocol: str) -> Path:
+    """The overview at several budgets: each experiment's headline curve per profile (the last solid with its
+    min/max band, the others dashed), and falls per approach at each budget. `loaded`: profile -> experiment -> runs."""
+    budgets = list(loaded)
+    *earlier, last = budgets
+    fig, axes = plt.subplots(2, 3, figsize=(16, 9), constrained_layout=True)
+    axes = axes.ravel()
+    for ax, (name, (metric, title, x_axis, target)) in zip(axes, HEADLINE.items()):
+        if not any(loaded[budget].get(name) for budget in budgets):
+            _no_results_panel(ax, name, title, f"at {' or '.join(budgets)}")
+            continue
+        missing = not loaded[last].get(name)  # then the dashed lines carry the legend, and the panel says so
+        for budget in earlier:
+            curve_panel(ax, loaded[budget].get(name, {}), metric, title, "[m/s]", x_axis,
+                        style={"ls": "--", "lw": 1.1, **({} if missing else {"label": None})}, band=False)
+        curve_panel(ax, loaded[last].get(name, {}), metric, title, "[m/s]", x_axis, target)
+        if missing:
+            ax.text(0.98, 0.02, f"no {name} results at {last} yet", ha="right", va="bottom", fontsize=8, color="0.4",
+                    transform=ax.transAxes)
+        ax.legend(fontsize=7)
+    hatches = {budget: "//" if budget != last else None for budget in budgets}
+    falls_panel(axes[5], {(name, budget): loaded[budget].get(name) for name in ("forward", "forward-max")
+                          for budget in budgets}, hatches)
+    seeds = {budget: sorted({len(d["seeds"]) for docs in loaded[budget].values() if docs for d in docs.values()})
+             for budget in budgets}
+    notes = "; ".join(f"{budget}: {'/'.join(map(str, n))} seeds" for budget, n in seeds.items() if n)
+    fig.suptitle(f"Every thesis simulation experiment at {' and '.join(budgets)} ({protocol} protocol): solid {last} "
+                 f"(mean, min/max band), dashed {', '.join(earlier)} (mean)\n{notes}", fontsize=11)
     return _save(fig, out)
 
 

@@ -120,12 +120,31 @@ def test_the_budgets_board_puts_each_profile_beside_the_thesis(tmp_path, capsys)
     for profile, nf_falls in (("quick", 58.0), ("full", 13.0)):
         for name, falls in (("jt-nf", nf_falls), ("jt-oef", 7.0), ("jt-lpf", 6.0)):
             _write(tmp_path / profile / "thesis-code", "forward", name, _document(0.55, falls))
-    out = tmp_path / "budgets.md"
-    assert main(["claims", "--results-dir", str(tmp_path), "--budgets", "quick", "full", "--markdown", str(out)]) == 0
+    out, plot = tmp_path / "budgets.md", tmp_path / "budgets.png"
+    assert main(["claims", "--results-dir", str(tmp_path), "--budgets", "quick", "full", "--markdown", str(out),
+                 "--plot", str(plot)]) == 0
     text = capsys.readouterr().out
+    assert f"wrote {plot}" in text and plot.read_bytes().startswith(b"\x89PNG")
     assert "thesis-code protocol: 1 of 15 at quick, 2 of 15 at full hold" in text
     assert "quick   FAILS  JT-NF 58.0" in text and "full    HOLDS  JT-NF 13.0" in text
     table = out.read_text()
     assert "| thesis finding | thesis | ours at quick | ours at full |" in table
     row = next(line for line in table.splitlines() if line.startswith("| JT forward falls"))
     assert row.endswith("| fails: JT-NF 58.0, JT-OEF 7.0, JT-LPF 6.0 | **holds**: JT-NF 13.0, JT-OEF 7.0, JT-LPF 6.0 |")
+
+
+def test_the_budgets_plot_needs_two_budgets_and_a_file_of_its_own(tmp_path, capsys):
+    import pytest
+
+    from mjx_badger.cli import main
+
+    plot = tmp_path / "budgets.png"
+    for argv, says in ((["--plot", str(plot)], "give --budgets with two profiles"),
+                       (["--budgets", "full", "--plot", str(plot)], "give --budgets with two profiles"),
+                       (["--budgets", "quick", "full", "--markdown", str(plot), "--plot", str(plot)],
+                        "--markdown and --plot name the same file")):
+        with pytest.raises(SystemExit) as exit_info:
+            main(["claims", *argv])
+        err = capsys.readouterr().err
+        assert exit_info.value.code == 2 and says in err and err.count("\n") == 1, err
+    assert not plot.exists()

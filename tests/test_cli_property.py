@@ -78,7 +78,7 @@ INTEGER_OPTIONS = ["--steps", "--total-steps", "--chunk-steps", "--warmup-steps"
                    "--epochs", "--batch-size"]
 FLOAT_OPTIONS = ["--gait-seconds", "--target-velocity", "--control-hz", "--episode-seconds", "--updates-per-step",
                  "--eval-seconds", "--reset-seconds", "--seconds", "--action-noise"]
-PATH_OPTIONS = ["--out", "--results-dir", "--figures-dir", "--json", "--markdown", "--to"]
+PATH_OPTIONS = ["--out", "--results-dir", "--figures-dir", "--json", "--markdown", "--plot", "--to"]
 FLAGS = ["--quiet", "--restart", "--no-tensorboard", "--dry-run", "--force", "--planned-contacts", "--unthrottled",
          "--no-sensor-noise"]
 RUN = ["--approach", "--algo", "--task", "--protocol", "--robot", "--set", "--approach-param", "--algo-param",
@@ -93,7 +93,7 @@ COMMANDS = {
     "reproduce": CLUSTER + ["--profile", "--protocol", "--experiments", "--results-dir", "--figures-dir", "--force",
                             "--no-tensorboard"],
     "figures": ["--profile", "--protocol", "--results-dir", "--figures-dir"],
-    "claims": ["--profile", "--protocol", "--results-dir", "--json", "--markdown", "--budgets"],
+    "claims": ["--profile", "--protocol", "--results-dir", "--json", "--markdown", "--plot", "--budgets"],
     "publish": ["--profile", "--protocol", "--results-dir", "--to"],
     "attribute": ["--results-dir", "--only"],
     "realtime": RUN + ["--target-velocity", "--steps", "--warmup-steps", "--control-hz", "--episode-seconds",
