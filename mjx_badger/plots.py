@@ -259,27 +259,27 @@ def overview_figure(loaded: dict, out: Path, profile: str) -> Path:
             continue
         curve_panel(ax, loaded[name], metric, title, "[m/s]", x_axis, target)
         ax.legend(fontsize=7)
-    falls_panel(axes[5], {name: loaded[name] for name in ("forward", "forward-max", "omni-random", "omni-pdec")})
+    falls_panel(axes[5], [(name, loaded.get(name), f"C{i}", None) for i, name in enumerate(FALLS_EXPERIMENTS)])
     every = {f"{name} {label}": d for name, documents in loaded.items() if documents for label, d in documents.items()}
     fig.suptitle(f"mjx_badger: every thesis simulation experiment at a glance ({profile}; {_seeds_note(every)})",
                  fontsize=12)
     return _save(fig, out)
 
 
-def falls_panel(ax, runs: dict, hatches: dict | None = None) -> None:
-    """Bars of falls during training, mean over seeds, per approach: one bar per key of `runs` that has results
-    (an experiment, or an (experiment, budget) pair drawn with its budget's hatch)."""
-    runs = {key: documents for key, documents in runs.items() if documents}
-    width = 0.8 / max(len(runs), 1)
-    approaches = [a for a in APPROACHES if any(a in documents for documents in runs.values())]
-    experiments = list(dict.fromkeys(key[0] if isinstance(key, tuple) else key for key in runs))
-    for i, (key, documents) in enumerate(runs.items()):
-        name = key[0] if isinstance(key, tuple) else key
+FALLS_EXPERIMENTS = ("forward", "forward-max", "omni-random", "omni-pdec")
+"""The experiments whose falls the overview figures draw, each in its own colour (C0, C1, ...)."""
+
+
+def falls_panel(ax, bars: list) -> None:
+    """Bars of falls during training, mean over seeds, per approach: one bar per (label, runs, colour, hatch) with runs."""
+    bars = [bar for bar in bars if bar[1]]
+    width = 0.8 / max(len(bars), 1)
+    approaches = [a for a in APPROACHES if any(a in documents for _, documents, _, _ in bars)]
+    for i, (label, documents, color, hatch) in enumerate(bars):
         means = [summarize(documents[a], None)["falls_mean"] if a in documents else np.nan for a in approaches]
-        hatch = (hatches or {}).get(key[1]) if isinstance(key, tuple) else None
-        ax.bar(np.arange(len(approaches)) + i * width, means, width, color=f"C{experiments.index(name)}",
-               hatch=hatch, edgecolor="white" if hatch else None, label=" ".join(key) if isinstance(key, tuple) else key)
-    ax.set_xticks(np.arange(len(approaches)) + width * (len(runs) - 1) / 2, [display_name(a) for a in approaches],
+        ax.bar(np.arange(len(approaches)) + i * width, means, width, color=color, hatch=hatch,
+               edgecolor="white" if hatch else None, label=label)
+    ax.set_xticks(np.arange(len(approaches)) + width * (len(bars) - 1) / 2, [display_name(a) for a in approaches],
                   fontsize=8)
     ax.set_title("falls during training, mean over seeds", fontsize=10)
     ax.legend(fontsize=7)
@@ -306,9 +306,8 @@ def budgets_figure(loaded: dict, out: Path, protocol: str) -> Path:
             ax.text(0.98, 0.02, f"no {name} results at {last} yet", ha="right", va="bottom", fontsize=8, color="0.4",
                     transform=ax.transAxes)
         ax.legend(fontsize=7)
-    hatches = {budget: "//" if budget != last else None for budget in budgets}
-    falls_panel(axes[5], {(name, budget): loaded[budget].get(name) for name in ("forward", "forward-max")
-                          for budget in budgets}, hatches)
+    falls_panel(axes[5], [(f"{name} {budget}", loaded[budget].get(name), f"C{i}", None if budget == last else "//")
+                          for i, name in enumerate(FALLS_EXPERIMENTS[:2]) for budget in budgets])
     seeds = {budget: sorted({len(d["seeds"]) for docs in loaded[budget].values() if docs for d in docs.values()})
              for budget in budgets}
     notes = "; ".join(f"{budget}: {'/'.join(map(str, n))} seeds" for budget, n in seeds.items() if n)
