@@ -144,18 +144,20 @@ def overall_progress(index: int, runs: int, done: float, total: float, left_s: f
 
 
 def measured_estimate(todo: list, args, seeds: int) -> str:
-    """The time the runs in `todo` will take here, from one short timed chunk per algorithm among them."""
+    """The time the runs in `todo` will take here, from one short timed chunk, with its share of evaluation,
+    per algorithm and evaluation size among them (an omni run's eight evaluation commands about halve its rate)."""
     from mjx_badger import runner
 
     speed, seconds = {}, 0.0
     for experiment, run, _ in todo:
-        if run.algo not in speed:
-            print(f"timing a short {run.approach} {run.algo} chunk on this machine ...", flush=True)
-            speed[run.algo] = runner.measure_speed(experiment.train_config(run, args.profile, args.protocol),
-                                                   list(range(seeds)))
-        measured = speed[run.algo]
+        config = experiment.train_config(run, args.profile, args.protocol)
+        kind = (run.algo, len(config.make_task().eval_commands))
+        if kind not in speed:
+            print(f"timing a short {run.approach} {run.algo} {run.task} chunk on this machine ...", flush=True)
+            speed[kind] = runner.measure_speed(config, list(range(seeds)), evaluation=True) | {"task": run.task}
+        measured = speed[kind]
         seconds += experiment.steps(run, args.profile) * seeds / measured["seed_steps_per_s"] + measured["compile_s"]
-    rates = ", ".join(f"{algo} {m['seed_steps_per_s']:.0f} seed-steps/s" for algo, m in speed.items())
+    rates = ", ".join(f"{algo} {m['task']} {m['seed_steps_per_s']:.0f} seed-steps/s" for (algo, _), m in speed.items())
     return (f"measured here ({rates}; compile {max(m['compile_s'] for m in speed.values()):.0f} s at most): "
             f"about {seconds / 3600:.1f} h for these {len(todo)} runs")
 

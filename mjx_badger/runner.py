@@ -144,16 +144,19 @@ def _sharded(parts: list, sharding: NamedSharding):
     return jax.tree.map(join, *parts)
 
 
-def measure_speed(config: TrainConfig, seeds: list[int], steps: int = 200) -> dict:
+def measure_speed(config: TrainConfig, seeds: list[int], steps: int = 200, evaluation: bool = False) -> dict:
     """This machine's speed for `config`: a chunk of `steps` learning steps (updates from the first), timed
-    after a first one; seed-steps/s and compile seconds (of the short program: a real run's is close)."""
-    carry, chunk, compile_s = compiled(make_train(short_run(config, steps)), seeds)
+    after a first one; seed-steps/s and compile seconds (of the short program: a real run's is close).
+    With `evaluation` the chunk ends with `config`'s evaluation cut in proportion, as a whole run's chunks do."""
+    carry, chunk, compile_s = compiled(make_train(short_run(config, steps, evaluation)), seeds)
     return timed_chunk(carry, chunk, steps, len(seeds), compile_s)
 
 
-def short_run(config: TrainConfig, steps: int) -> TrainConfig:
-    """`config` cut to two chunks of `steps` learning steps, the shortest run worth timing."""
-    return dataclasses.replace(config, total_steps=2 * steps, chunk_steps=steps, warmup_steps=0, eval_steps=1)
+def short_run(config: TrainConfig, steps: int, evaluation: bool = False) -> TrainConfig:
+    """`config` cut to two chunks of `steps` learning steps, the shortest run worth timing; its evaluation
+    one step long, or with `evaluation` as long per learning step as `config`'s."""
+    eval_steps = max(1, round(config.eval_steps * steps / config.chunk_steps)) if evaluation else 1
+    return dataclasses.replace(config, total_steps=2 * steps, chunk_steps=steps, warmup_steps=0, eval_steps=eval_steps)
 
 
 def timed_chunk(carry, chunk, steps: int, seed_count: int, compile_s: float) -> dict:

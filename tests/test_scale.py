@@ -148,25 +148,35 @@ def test_seeds_that_do_not_split_over_the_devices_are_refused_before_anything_co
     runner.check_seeds_divide(1, 2)  # one seed runs on the first device
 
 
-def test_the_full_profile_estimate_is_measured_once_per_algorithm(monkeypatch):
+def test_the_full_profile_estimate_is_measured_once_per_algorithm_and_evaluation_size(monkeypatch):
     from mjx_badger import cli, reproduce
     from mjx_badger.experiments import EXPERIMENTS
 
     timed = []
 
-    def fake_measure(config, seeds):
-        timed.append((config.algo, len(seeds)))
-        return {"seed_steps_per_s": 100.0 if config.algo == "crossq" else 10.0, "compile_s": 60.0}
+    def fake_measure(config, seeds, evaluation=False):
+        timed.append((config.algo, config.task, len(seeds), evaluation))
+        rate = 100.0 if config.algo == "crossq" else 10.0
+        return {"seed_steps_per_s": rate / 2 if config.task.startswith("omni") else rate, "compile_s": 60.0}
 
     monkeypatch.setattr(runner, "measure_speed", fake_measure)
-    experiment = EXPERIMENTS["algo-comparison"]
-    todo = [(experiment, run, None) for run in experiment.runs]
-    args = cli.Reproduce(profile="full")
-    line = reproduce.measured_estimate(todo, args, seeds=10)
-    assert sorted(timed) == sorted((run.algo, 10) for run in experiment.runs)  # one short chunk per algorithm
-    expected_s = sum(experiment.steps(run, "full") * 10 / (100.0 if run.algo == "crossq" else 10.0) + 60.0
-                     for run in experiment.runs)
-    assert f"about {expected_s / 3600:.1f} h for these 4 runs" in line
+    todo = [(EXPERIMENTS[name], run, None) for name in ("algo-comparison", "forward-max", "omni-random")
+            for run in EXPERIMENTS[name].runs]
+    line = reproduce.measured_estimate(todo, cli.Reproduce(profile="full"), seeds=10)
+    # One chunk per algorithm and evaluation size (forward-max shares forward's one command), with evaluation.
+    assert sorted(timed) == sorted([(algo, "forward", 10, True) for algo in ("sac", "sac-utd20", "droq", "crossq")]
+                                   + [("crossq", "omni-random", 10, True)])
+    assert "crossq forward 100 seed-steps/s" in line and "crossq omni-random 50 seed-steps/s" in line
+    expected_s = sum(experiment.steps(run, "full") * 10 / fake_measure(experiment.train_config(run, "full"), [])
+                     ["seed_steps_per_s"] + 60.0 for experiment, run, _ in todo)
+    assert f"about {expected_s / 3600:.1f} h for these {len(todo)} runs" in line
+
+
+def test_the_timed_chunk_evaluates_as_long_per_learning_step_as_the_run():
+    config = TINY_TRAIN
+    cut = runner.short_run(config, 20, evaluation=True)
+    assert cut.eval_steps / cut.chunk_steps == pytest.approx(config.eval_steps / config.chunk_steps, rel=0.05)
+    assert runner.short_run(config, 20).eval_steps == 1  # the learner's own rate (benchmarks)
 
 
 @pytest.mark.slow  # a learning program of its own: minutes of compile

@@ -1,0 +1,63 @@
+"""How well `reproduce --profile full`'s estimate predicts a run's rate: per experiment, the seed-steps/s of a
+short timed chunk without its evaluation (the estimate up to 2026-12-04), with its evaluation cut in proportion
+(since), and of one whole chunk of the run (1,000 learning steps, then the run's own evaluation).
+
+    python benchmarks/bench_estimate.py --out benchmarks/results/estimate_evaluation.json
+    python benchmarks/bench_estimate.py --experiments forward --seeds 2 --out /tmp/estimate.json  # a short try
+
+Each rate is its own compiled program's second chunk (runner.timed_chunk), so the three differ only in how
+much evaluation follows the learning steps. Pause any other training first: this machine has 2 cores.
+"""
+
+import argparse
+import dataclasses
+import json
+from pathlib import Path
+
+from mjx_badger import results, runner
+from mjx_badger.experiments import EXPERIMENTS
+from mjx_badger.train import make_train
+
+
+def whole_chunk_speed(config, seeds: list[int]) -> dict:
+    """Seed-steps/s of one chunk of `config` as a run has it (its chunk length and evaluation), learning throughout."""
+    two_chunks = dataclasses.replace(config, total_steps=2 * config.chunk_steps, warmup_steps=0)
+    carry, chunk, compile_s = runner.compiled(make_train(two_chunks), seeds)
+    return runner.timed_chunk(carry, chunk, config.chunk_steps, len(seeds), compile_s)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--experiments", nargs="+", default=["forward-max", "omni-random"], choices=sorted(EXPERIMENTS))
+    parser.add_argument("--approach", default="jt-lpf", help="the run of each experiment to time")
+    parser.add_argument("--seeds", type=int, default=10, help="vmapped seeds (the full profile's 10)")
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args()
+
+    seeds, rows = list(range(args.seeds)), []
+    for name in args.experiments:
+        experiment = EXPERIMENTS[name]
+        run = next(r for r in experiment.runs if r.approach == args.approach)
+        config = experiment.train_config(run, "full")
+        rates = {"without_evaluation": runner.measure_speed(config, seeds),
+                 "with_evaluation": runner.measure_speed(config, seeds, evaluation=True),
+                 "whole_chunk": whole_chunk_speed(config, seeds)}
+        row = {"experiment": name, "run": experiment.result_name(run), "seeds": args.seeds,
+               "evaluation_commands": len(config.make_task().eval_commands), "eval_steps": config.eval_steps,
+               **{f"{k}_seed_steps_per_s": round(v["seed_steps_per_s"], 1) for k, v in rates.items()},
+               **{f"{k}_compile_s": round(v["compile_s"], 1) for k, v in rates.items()}}
+        rows.append(row)
+        whole = rates["whole_chunk"]["seed_steps_per_s"]
+        print(f"{name} {run.approach} x{args.seeds}: " + ", ".join(
+            f"{k.replace('_', ' ')} {v['seed_steps_per_s']:.0f} seed-steps/s ({v['seed_steps_per_s'] / whole:.2f} of "
+            "the whole chunk's)" for k, v in rates.items() if k != "whole_chunk") + f"; whole chunk {whole:.0f}",
+            flush=True)
+    document = {"what": __doc__.splitlines()[0], "rows": rows, "measured": results.now(),
+                "versions": results.versions()}
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(document, indent=1) + "\n")
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()
