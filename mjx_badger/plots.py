@@ -1,6 +1,7 @@
 """Figures drawn from results files only (nothing here trains); numbers from analysis.py, tables from tables.py."""
 
 import json
+import textwrap
 import warnings
 from pathlib import Path
 
@@ -75,8 +76,10 @@ def learning_curves(experiment: Experiment, documents: dict, out: Path, profile:
         target = experiment.target_velocity if metric.endswith("forward_velocity") else None
         curve_panel(ax, documents, metric, title, ylabel, x_axis, target)
     axes[0].legend(loc="best", fontsize=8)
-    fig.suptitle(f"{thesis_note[0]}, {profile} ({_seeds_note(documents)})\n"
-                 f"thesis {experiment.thesis_figure} (10 seeds, 50k steps): {thesis_note[1]}", fontsize=10)
+    thesis = f"thesis {experiment.thesis_figure} (10 seeds, 50k steps): {thesis_note[1]}"
+    # A title line wider than the figure is cut at both edges: wrap it at about 11 characters per inch.
+    lines = textwrap.wrap(thesis, width=int(11 * fig.get_figwidth()))
+    fig.suptitle("\n".join([f"{thesis_note[0]}, {profile} ({_seeds_note(documents)})", *lines]), fontsize=10)
     return _save(fig, out)
 
 

@@ -70,3 +70,24 @@ def test_our_seeds_are_read_as_the_released_codes_and_counted_inside_its_range()
                                          "falls": [4, 9]}}}
     row = tables.released_code_table({"jt-nf": document}, released, "quick").splitlines()[-1]
     assert row == "| JT-NF | 1k, 3k / 2k, never (1 of 2) | 0.45, 0.55 / 0.50, 0.30 (1 of 2) | 4, 9 / 4, 5 (2 of 2) |"
+
+
+def test_a_long_thesis_note_is_wrapped_inside_the_figure(monkeypatch, tmp_path):
+    """The omni experiments' thesis notes run longer than a figure is wide: no title line may be cut at its edges."""
+    import matplotlib
+
+    from mjx_badger import plots, safe_io
+    from mjx_badger.experiments import EXPERIMENTS
+
+    drawn = []
+    monkeypatch.setattr(safe_io, "save_figure", lambda fig, out, dpi: drawn.append((fig, dpi)))
+    experiment = EXPERIMENTS["omni-random"]
+    note = "; ".join(f"{name}: moves in every direction, below the best (0 falls)" for name in "ABCDEFGH")
+    plots.learning_curves(experiment, {}, tmp_path / "x.png", "quick", "steps", (("eval/desired_mae", "t", "m/s"),) * 4,
+                          ("a title", note))
+    (fig, dpi), = drawn
+    renderer = matplotlib.backends.backend_agg.FigureCanvasAgg(fig).get_renderer()
+    title = fig._suptitle
+    assert title.get_text().count("\n") >= 2  # wrapped
+    extent = title.get_window_extent(renderer)
+    assert 0 <= extent.x0 and extent.x1 <= fig.get_figwidth() * fig.dpi
