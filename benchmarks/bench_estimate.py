@@ -5,25 +5,16 @@ short timed chunk without its evaluation (the estimate up to 2026-12-04), with i
     python benchmarks/bench_estimate.py --out benchmarks/results/estimate_evaluation.json
     python benchmarks/bench_estimate.py --experiments forward --seeds 2 --out /tmp/estimate.json  # a short try
 
-Each rate is its own compiled program's second chunk (runner.timed_chunk), so the three differ only in how
+Each rate is its own compiled program's second chunk (runner.measure_speed), so the three differ only in how
 much evaluation follows the learning steps. Pause any other training first: this machine has 2 cores.
 """
 
 import argparse
-import dataclasses
 import json
 from pathlib import Path
 
 from mjx_badger import results, runner
 from mjx_badger.experiments import EXPERIMENTS
-from mjx_badger.train import make_train
-
-
-def whole_chunk_speed(config, seeds: list[int]) -> dict:
-    """Seed-steps/s of one chunk of `config` as a run has it (its chunk length and evaluation), learning throughout."""
-    two_chunks = dataclasses.replace(config, total_steps=2 * config.chunk_steps, warmup_steps=0)
-    carry, chunk, compile_s = runner.compiled(make_train(two_chunks), seeds)
-    return runner.timed_chunk(carry, chunk, config.chunk_steps, len(seeds), compile_s)
 
 
 def main():
@@ -41,7 +32,8 @@ def main():
         config = experiment.train_config(run, "full")
         rates = {"without_evaluation": runner.measure_speed(config, seeds),
                  "with_evaluation": runner.measure_speed(config, seeds, evaluation=True),
-                 "whole_chunk": whole_chunk_speed(config, seeds)}
+                 # A chunk as long as the run's has the run's whole evaluation after it.
+                 "whole_chunk": runner.measure_speed(config, seeds, config.chunk_steps, evaluation=True)}
         row = {"experiment": name, "run": experiment.result_name(run), "seeds": args.seeds,
                "evaluation_commands": len(config.make_task().eval_commands), "eval_steps": config.eval_steps,
                **{f"{k}_seed_steps_per_s": round(v["seed_steps_per_s"], 1) for k, v in rates.items()},
