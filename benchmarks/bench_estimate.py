@@ -24,6 +24,10 @@ def main():
     parser.add_argument("--seeds", type=int, default=10, help="vmapped seeds (the full profile's 10)")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
+    for name in args.experiments:  # before anything compiles
+        approaches = sorted(r.approach for r in EXPERIMENTS[name].runs)
+        if args.approach not in approaches:
+            parser.error(f"--approach {args.approach} is not a run of {name}: one of {', '.join(approaches)}")
 
     seeds, rows = list(range(args.seeds)), []
     for name in args.experiments:
