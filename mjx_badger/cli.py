@@ -56,7 +56,9 @@ class Cluster:
     coordinator: Optional[str] = None
     """HOST:PORT of process 0, with --num-processes and --process-id (each process runs the same command)."""
     num_processes: Optional[int] = None
+    """How many processes the cluster has (with --coordinator)."""
     process_id: Optional[int] = None
+    """This process's number, 0..N-1 (with --coordinator)."""
     distributed: bool = False
     """Join the cluster JAX detects by itself (Slurm, Open MPI, Cloud TPU)."""
 
@@ -94,6 +96,7 @@ class Runs:
     seeds: int = 3
     """Number of seeds, vmapped in one program (in a sweep: per member)."""
     first_seed: int = 0
+    """The first seed: the run trains seeds FIRST..FIRST+SEEDS-1."""
     out: Path = Path("results")
     """Folder for the results files."""
     quiet: bool = False
@@ -212,6 +215,7 @@ class Reproduce:
     """Experiments, or groups of them: 'simulation' (the five simulation experiments) or 'real' (the real-world
     ones under on-robot conditions, §5.2)."""
     results_dir: Path = Path("results")
+    """Where the runs are written (<results-dir>/<profile>/<protocol>/<experiment>/)."""
     figures_dir: Optional[Path] = None
     """Where figures, tables and the scoreboard go (default: <results-dir>/figures; the committed ones: figures)."""
     force: bool = False
@@ -254,6 +258,8 @@ class Figures:
     profile: Profile = "quick"
     protocol: ProtocolName = "thesis-code"
     results_dir: Path = Path("results")
+    """Where the results are read from (<results-dir>/<profile>/<protocol>/<experiment>/; the committed ones:
+    figures/data)."""
     figures_dir: Optional[Path] = None
     """Where they go (default: <results-dir>/figures; the committed ones: figures)."""
 
@@ -288,6 +294,7 @@ class Claims:
     protocol: Optional[ProtocolName] = None
     """One protocol (default: both)."""
     results_dir: Path = Path("results")
+    """Where the results are read from (the committed ones: figures/data)."""
     json: Optional[Path] = None
     """Also write the scoreboard here."""
     markdown: Optional[Path] = None
@@ -373,6 +380,7 @@ class Publish:
     profile: Profile = "quick"
     protocol: ProtocolName = "thesis-code"
     results_dir: Path = Path("results")
+    """Where the results are read from (<results-dir>/<profile>/<protocol>/)."""
     to: Optional[Path] = None
     """The reference folder, named explicitly (results land in <to>/<profile>/<protocol>/<experiment>/; the
     committed one is figures/data)."""
@@ -401,6 +409,7 @@ class Attribute:
     """One-factor protocol swaps beside their baselines (2 seeds x 10k steps each)."""
 
     results_dir: Path = Path("results")
+    """Where the swaps' runs are written."""
     only: Optional[tuple[str, ...]] = None
     """Run only these swaps (names as `list` prints them)."""
 
@@ -482,12 +491,12 @@ class SavedRun:
     results: tyro.conf.Positional[Path]
     """A training run's results file; its saved policy lies beside it."""
     seed: Optional[int] = None
-    """Which seed's policy (default: the run's first)."""
+    """Which seed's policy (default: the first the saved policy holds; a committed result holds its best seed's)."""
     command: Optional[str] = None
     """VX,VY,YAW (m/s, m/s, rad/s); default: the task's first evaluation command."""
+    max_seconds = 3600.0  # the longest --seconds a command takes (a render keeps every frame in memory: less)
     seconds: float = 20.0
-    max_seconds = 3600.0
-    """The longest run a command takes (a render keeps every frame in memory: less)."""
+    """Simulated seconds to run the policy for, up to 3600."""
     conditions: Optional[str] = None
     """Run it under other conditions than it trained in (sim, office, outdoor): the thesis tested its office policy
     in simulation (§5.2.1). Default: the run's own."""
@@ -510,11 +519,11 @@ class SavedRun:
         if not saved.is_file():
             raise ValueError(f"{self.results}: its saved policy {str(saved)!r} is missing (a committed reference "
                              "result keeps only its best seed's, where one was attached)")
-        policy.load(saved, self.seed)  # the seed exists, the file is whole
+        seed = policy.load(saved, self.seed).seed  # the seed exists (default: the file's first), the file is whole
         results.train_config(document)  # the run can be rebuilt
-        if self.seed in results.diverged(document):
-            raise ValueError(f"seed {self.seed} of {self.results.name} diverged at step "
-                             f"{results.diverged(document)[self.seed]}; its policy is frozen from before, choose another")
+        if seed in results.diverged(document):
+            raise ValueError(f"seed {seed} of {self.results.name} diverged at step "
+                             f"{results.diverged(document)[seed]}; its policy is frozen from before, choose another")
         if self.command is not None:
             try:
                 vx, vy, yaw = [float(x) for x in self.command.split(",")]
@@ -569,8 +578,9 @@ class Evaluate(SavedRun):
 class Render(SavedRun):
     """A GIF of a run's saved policy walking on native MuJoCo, rendered offscreen (EGL or OSMesa)."""
 
-    seconds: float = 5.0
     max_seconds = 60.0
+    seconds: float = 5.0
+    """Simulated seconds of video, up to 60."""
     out: Path = Path("gait.gif")
     """The video file (.gif)."""
 

@@ -54,7 +54,9 @@ class Collect:
     action_noise: float = 0.0
     """Std of Gaussian noise on the policy's actions (in [-1, 1]), as a policy still exploring acts; 0: its own."""
     seed: int = 0
+    """Seeds the walks' starts, commands and action noise."""
     out: Path = Path("results/estimators/dataset.npz")
+    """The dataset file (.npz)."""
 
     def check(self) -> None:
         from mjx_badger.tasks import TASKS
@@ -92,7 +94,9 @@ class Fit:
     """thesis: joint angles and IMU acceleration; rich: the fix the thesis names (velocities, torques, contacts,
     gyro, gravity, a window of past steps)."""
     epochs: int = 100
+    """Passes over the training trajectories (the thesis: 100)."""
     batch_size: int = 256
+    """Samples per gradient step (ours: the thesis gives none)."""
     out: Path | None = None
     """Default: <dataset folder>/<inputs>.estimator.npz."""
 
@@ -140,7 +144,9 @@ class Figures:
                                  REFERENCE / "estimators" / "noise-1.0" / "thesis.estimator.npz")
     """Fitted estimators to compare (missing files are left out, and said so)."""
     seconds: float = 20.0
+    """Simulated seconds of each walk (Figure 2.1: 20)."""
     seed: int = 0
+    """The walks' random seed."""
     out: Path = Path("results/estimators/figures")
     """Folder for estimators_walk.png, estimators_fit.png and estimators.md/.json (the committed ones: figures/estimators)."""
 

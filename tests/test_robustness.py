@@ -66,6 +66,18 @@ def test_evaluate_and_render_name_a_missing_saved_policy(capsys, command, tmp_pa
     _refused(capsys, [command, str(committed), *out], "cpg-vf_crossq_forward.policy.npz", "is missing")
 
 
+def test_evaluate_refuses_a_diverged_seed_named_or_by_default(capsys, tmp_path):
+    """The saved policy's only seed (1) diverged: evaluate refuses it whether --seed names it or is left out."""
+    for name in ("jt-oef_crossq_forward.json", "jt-oef_crossq_forward.policy.npz"):
+        shutil.copy(REFERENCE / "forward" / name, tmp_path / name)
+    edited = tmp_path / "jt-oef_crossq_forward.json"
+    document = json.loads(edited.read_text())
+    document["diverged_at_step"] = [None, 6000, None]
+    edited.write_text(json.dumps(document))
+    for seed in ([], ["--seed", "1"]):
+        _refused(capsys, ["evaluate", str(edited), *seed], "seed 1 of jt-oef_crossq_forward.json diverged at step 6000")
+
+
 # Bad input of every kind: one line naming the field and what it takes.
 
 @pytest.mark.parametrize("argv, says", [
