@@ -161,7 +161,7 @@ def main():
         print("first chunk", measured["first_chunk"])
         return
     jax.config.update("jax_enable_compilation_cache", False)  # measure XLA, not the disk
-    measured = {"what": __doc__.splitlines()[0], "date": results.now(), "git_commit": results.git_commit(),
+    measured = {"what": results.what(__doc__), "date": results.now(), "git_commit": results.git_commit(),
                 "hardware": results.hardware(), "note": args.note, "seeds": SEEDS,
                 "solver_loops_per_mjx_step": one_step_loops(), "programs": {}}
     for shape in ([args.only] if args.only else CONFIGS):

@@ -55,7 +55,7 @@ def main():
                                  "compile_s": round(speed["compile_s"], 1)})
         print(f"{seeds:3d} seeds: learner {total:9.0f} updates/s in all, training {speed['seed_steps_per_s']:9.0f} "
               f"seed-steps/s (chunk compile {speed['compile_s']:.0f} s)", flush=True)
-    document = {"what": __doc__.splitlines()[0], "device": f"{device.platform} {device.device_kind}",
+    document = {"what": results.what(__doc__), "device": f"{device.platform} {device.device_kind}",
                 "device_count": jax.device_count(), "training_config": "forward JT-NF CrossQ, full profile, thesis-code, "
                 f"{args.steps}-step chunks", **rows, "measured": results.now(), "versions": results.versions(),
                 "git_commit": results.git_commit(), "hardware": results.hardware()}

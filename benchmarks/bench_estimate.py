@@ -48,7 +48,7 @@ def main():
             f"{k.replace('_', ' ')} {v['seed_steps_per_s']:.0f} seed-steps/s ({v['seed_steps_per_s'] / whole:.2f} of "
             "the whole chunk's)" for k, v in rates.items() if k != "whole_chunk") + f"; whole chunk {whole:.0f}",
             flush=True)
-    document = {"what": __doc__.splitlines()[0], "rows": rows, "measured": results.now(),
+    document = {"what": results.what(__doc__), "rows": rows, "measured": results.now(),
                 "versions": results.versions()}
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(document, indent=1) + "\n")

@@ -48,7 +48,7 @@ def main():
         rows[name] = {f"batch_{b}": round(env_steps_per_s(sensing, b), 1) for b in (1, 64)}
         print(f"{name:40s} " + "  ".join(f"batch {b}: {rows[name][f'batch_{b}']:8.1f} env-steps/s" for b in (1, 64)),
               flush=True)
-    document = {"what": __doc__.splitlines()[0], "date": results.now()[:10], "git_commit": results.git_commit(),
+    document = {"what": results.what(__doc__), "date": results.now()[:10], "git_commit": results.git_commit(),
                 "hardware": results.hardware(), "unit": "control steps per second (each 5 physics steps at 40 Hz)",
                 "env_steps_per_s": rows}
     OUT.write_text(json.dumps(document, indent=1))

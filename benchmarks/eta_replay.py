@@ -32,7 +32,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "eta_replay.json")
     args = parser.parse_args()
-    report = {"what": __doc__.splitlines()[0], "git_commit": results.git_commit(), "profiles": {}}
+    report = {"what": results.what(__doc__), "git_commit": results.git_commit(), "profiles": {}}
     for profile in ("quick", "smoke"):
         costs = eta.measured_costs(profile, ROOT)
         order = eta.profile_plan(profile)

@@ -41,7 +41,7 @@ def main():
         for friction in (0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.3):
             rows.append({"impratio": impratio, "friction": friction, "blowups": blowups(friction, impratio)})
             print(json.dumps(rows[-1]), flush=True)
-    OUT.write_text(json.dumps({"what": __doc__.splitlines()[0], "date": results.now()[:10],
+    OUT.write_text(json.dumps({"what": results.what(__doc__), "date": results.now()[:10],
                                "git_commit": results.git_commit(), "robots": ROBOTS, "steps": STEPS,
                                "hardware": results.hardware(), "rows": rows}, indent=1))
     print(f"wrote {OUT}")

@@ -54,6 +54,11 @@ OLDER_SCHEMAS = ("mjx_badger.results/1",)
 PACKAGES = ("jax", "jaxlib", "mujoco", "mujoco-mjx", "brax", "flax", "optax", "numpy")
 
 
+def what(docstring: str) -> str:
+    """A script's docstring's first paragraph on one line: the "what" of the results file it writes."""
+    return " ".join(docstring.split("\n\n")[0].split())
+
+
 def now() -> str:
     return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
 
