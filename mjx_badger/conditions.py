@@ -166,8 +166,8 @@ OUTDOOR = Conditions(
 )
 """§5.2.2-5.2.3: uneven cobblestones with a 3 degree incline, friction varying between spots (1.0-1.3, assumed: rough
 stones, wet or dry), otherwise as the office. The contact solver runs at impratio 10 on the stones: at the model's 100
-MJX blows up there (8 in 8000 random JT-NF steps, none on flat ground; a trained JT-OEF policy 40 times per seed in 20k
-steps), at 30 and below it did not (benchmarks/results/cobblestone_stability.json)."""
+MJX blows up there (8 in 8000 random JT-NF steps, none on flat ground; a first JT-OEF run over and over), at 30 and
+below it did not (benchmarks/results/cobblestone_stability.json)."""
 
 CONDITIONS = {c.name: c for c in (SIM, OFFICE, OUTDOOR)}
 
