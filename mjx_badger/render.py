@@ -22,7 +22,7 @@ SCENERY = """<asset>
     <texture type="skybox" builtin="gradient" rgb1="0.55 0.7 0.88" rgb2="0.95 0.96 1" width="256" height="256"/>
   </asset>
   <worldbody>"""
-"""A checkered floor (0.25 m squares, so speed can be read off the video) and a sky, for videos only."""
+"""A checkered floor (so speed can be read off the video) and a sky, for videos only."""
 
 GL_HELP = ("offscreen rendering needs an OpenGL backend without a display: install EGL (apt install libegl1) "
            "or OSMesa (apt install libosmesa6) and set MUJOCO_GL=egl or MUJOCO_GL=osmesa")

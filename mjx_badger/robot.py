@@ -100,8 +100,8 @@ class RobotSpec:
     impratio: float = 100.0
     solver_iterations: int = 50
     """Most Newton iterations per physics step (plane.xml: 100). The solver stops at its tolerance, so
-    50 costs MJX about what 10 does, and unlike 10 it keeps MJX within 0.02 rad of native MuJoCo
-    through the reset drop onto the stiff, impratio-100 contacts (benchmarks/bench_contacts.py)."""
+    50 costs MJX about what 10 does, and unlike 10 it keeps MJX close to native MuJoCo through the reset
+    drop onto the stiff, impratio-100 contacts (benchmarks/bench_contacts.py times the contacts)."""
     solver_ls_iterations: int = 10
     floor_contacts: tuple = ("trunk", "thigh", "calf", "foot")
     """Parts that collide with the floor (plane.xml: all of them); ("foot",) is the first version's feet-only model."""
