@@ -1,6 +1,7 @@
 """Bad input gets one clear line and exit code 2 before anything compiles; options come from the run specs."""
 
 import dataclasses
+import json
 import os
 import subprocess
 import sys
@@ -89,7 +90,9 @@ def test_claims_without_results_prints_both_empty_scoreboards(capsys, tmp_path):
     assert "thesis-code protocol, quick profile: 0 of 15 hold (0 checked)" in out
     assert "wall time: 0 runs in 0.00 h" in out
     assert "thesis-text protocol" in out and "thesis: CrossQ ~2 min, DroQ ~7 min" in out
-    assert (tmp_path / "board.json").exists()
+    board = json.loads((tmp_path / "board.json").read_text())
+    assert sorted(board) == ["thesis-code", "thesis-text"]
+    assert all(len(claims) == 15 and all(c["holds"] is None for c in claims) for claims in board.values())
 
 
 def test_a_run_shared_by_two_experiments_is_found_and_reused(tmp_path):

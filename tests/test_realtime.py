@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 import pytest
 
+import conftest
 from mjx_badger import kinematics, mjcf, robot
 from mjx_badger.agents import ALGORITHMS
 from mjx_badger.realtime import control, safety, scheduling
@@ -251,10 +252,12 @@ def test_stop_and_resume_keep_the_replay_buffer_and_step_count(tmp_path, signum)
 
 
 def test_bad_settings_are_refused_before_anything_compiles():
+    compiles = len(conftest.COMPILES)
     with pytest.raises(ValueError, match="cpg-rt-avg"):
         RealtimeConfig(approach="cpg-rt").validate()
     with pytest.raises(ValueError, match="planned contacts"):
         RealtimeConfig(approach="jt-oef", planned_contacts=True).validate()
+    assert not conftest.COMPILES[compiles:]  # nothing traced, compiled or loaded from the cache
 
 
 def test_simulated_robot_is_paced_to_the_wall_clock_and_stands():

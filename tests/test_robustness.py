@@ -107,6 +107,29 @@ def test_evaluate_refuses_a_diverged_seed_named_or_by_default(capsys, tmp_path):
     (["claims", "--json", "/proc/version/board.json"], "is a file, not a folder"),
     (["claims", "--json", "b.json", "--markdown", "b.json"], "--json and --markdown name the same file"),
     (["publish", "--results-dir", str(REPO / "figures" / "data")], "--to names the reference folder"),
+    (["train", "--coordinator", "localhost:70000", "--num-processes", "2", "--process-id", "0"], "port in 1..65535"),
+    (["train", "--coordinator", "localhost:1234"], "--coordinator needs --num-processes and --process-id"),
+    (["train", "--coordinator", "localhost:1234", "--num-processes", "2", "--process-id", "2"], "--process-id must be in 0..1"),
+    (["sweep", "--vary", "algo_params.learning_rate=0.1,0.2", "--vary", "algo_params.learning_rate=0.3,0.4"],
+     "a field is swept twice"),
+    (["sweep", "--grid", "/nonexistent/grid.json"], "cannot read the grid file"),
+    (["claims", "--budgets", "quick", "quick"], "--budgets names a profile twice"),
+    (["evaluate", "nothere.json"], "no results file 'nothere.json'"),
+    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--command", "1,2"], "three numbers"),
+    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--command", "20,0,0"],
+     "--command VX must be a finite number in [-10, 10]"),
+    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--seed", "0"], "holds seeds [1], not 0"),
+    (["estimator", "collect", "--out", "x.txt"], "must end in .npz"),
+    (["estimator", "collect", "--steps", "100"], "at least 500 per env"),
+    (["estimator", "collect", "--action-noise", "3"], "--action-noise 3.0: choose within 0..2"),
+    (["estimator", "fit", "--dataset", "none.npz"], "no dataset 'none.npz'"),
+    (["estimator", "fit", "--epochs", "0"], "--epochs must be a positive number"),
+    (["train", "--set", "jt_pd_gains=5"], "protocol field jt_pd_gains must be a non-empty list"),
+    (["train", "--set", "lowpass=foo"], "protocol field lowpass takes butterworth, first-order"),
+    (["train", "--algo-param", "batch_size=0"], "algorithm parameter batch_size must be an integer in 1.."),
+    (["train", "--seeds", "2000000"], "--seeds must be an integer in 1..1000000"),
+    (["train", "--gait-seconds", "61"], "gait_seconds must be a finite number in (0, 60]"),
+    (["realtime", "--reset-seconds", "-1"], "--reset-seconds must not be negative"),
 ])
 def test_bad_values_are_refused_in_one_line_naming_the_field(capsys, argv, says):
     _refused(capsys, argv, says)
@@ -293,7 +316,8 @@ def test_a_full_disk_while_drawing_keeps_the_figure_before(tmp_path, monkeypatch
     real = safe_io._put
 
     def full(tmp, data):
-        if tmp.name.startswith(".forward_quick.png."):
+        if tmp.name.startswith(".forward_quick.png."):  # as a full disk does: part of it written, then the error
+            real(tmp, data[:10])
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(tmp))
         real(tmp, data)
 
@@ -302,6 +326,21 @@ def test_a_full_disk_while_drawing_keeps_the_figure_before(tmp_path, monkeypatch
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "error: No space left on device writing" in err, err
     assert figure.read_bytes() == b"before" and not list(figure.parent.glob(".*.tmp"))
+
+
+def test_a_failed_write_leaves_the_file_before_and_no_temporary_file(tmp_path, monkeypatch):
+    target = tmp_path / "board.md"
+    safe_io.write_text(target, "before")
+    real = safe_io._put
+
+    def half_then_full(tmp, data):
+        real(tmp, data[:3])
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(tmp))
+
+    monkeypatch.setattr(safe_io, "_put", half_then_full)
+    with pytest.raises(OSError):
+        safe_io.write_text(target, "after, longer")
+    assert target.read_text() == "before" and sorted(p.name for p in tmp_path.iterdir()) == ["board.md"]
 
 
 def test_a_failed_folder_save_leaves_the_one_before(tmp_path):
