@@ -18,6 +18,7 @@ from mjx_badger.cli import main
 
 REPO = Path(__file__).resolve().parent.parent
 REFERENCE = REPO / "figures" / "data" / "quick" / "thesis-code"
+WALKER = str(REFERENCE / "forward" / "jt-oef_crossq_forward.json")  # a committed result with its policy
 TINY = ["train", "--approach", "jt-oef", "--task", "forward", "--steps", "300", "--chunk-steps", "100",
         "--warmup-steps", "100", "--eval-steps", "20", "--seeds", "2", "--quiet", "--no-tensorboard"]
 
@@ -99,9 +100,9 @@ def test_evaluate_refuses_a_diverged_seed_named_or_by_default(capsys, tmp_path):
     (["realtime", "--reset-seconds", "inf"], "--reset-seconds must be a finite number"),
     (["evaluate", "x.json", "--seconds", "nan"], "--seconds must be a finite number in (0, 3600]"),
     (["render", "x.json", "--seconds", "600"], "--seconds must be a finite number in (0, 60]"),
-    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--command", "0.5,0,inf"],
+    (["evaluate", WALKER, "--command", "0.5,0,inf"],
      "--command YAW must be a finite number"),
-    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--conditions", "moon"],
+    (["evaluate", WALKER, "--conditions", "moon"],
      "--conditions 'moon': choose from sim, office, outdoor"),
     (["attribute", "--only"], "--only needs at least one swap"),
     (["claims", "--json", "/proc/version/board.json"], "is a file, not a folder"),
@@ -115,10 +116,10 @@ def test_evaluate_refuses_a_diverged_seed_named_or_by_default(capsys, tmp_path):
     (["sweep", "--grid", "/nonexistent/grid.json"], "cannot read the grid file"),
     (["claims", "--budgets", "quick", "quick"], "--budgets names a profile twice"),
     (["evaluate", "nothere.json"], "no results file 'nothere.json'"),
-    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--command", "1,2"], "three numbers"),
-    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--command", "20,0,0"],
+    (["evaluate", WALKER, "--command", "1,2"], "three numbers"),
+    (["evaluate", WALKER, "--command", "20,0,0"],
      "--command VX must be a finite number in [-10, 10]"),
-    (["evaluate", str(REFERENCE / "forward" / "jt-oef_crossq_forward.json"), "--seed", "0"], "holds seeds [1], not 0"),
+    (["evaluate", WALKER, "--seed", "0"], "holds seeds [1], not 0"),
     (["estimator", "collect", "--out", "x.txt"], "must end in .npz"),
     (["estimator", "collect", "--steps", "100"], "at least 500 per env"),
     (["estimator", "collect", "--action-noise", "3"], "--action-noise 3.0: choose within 0..2"),
