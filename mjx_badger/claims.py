@@ -92,6 +92,10 @@ class Claim:
         try:
             ours, holds = self.measure(results)
         except Missing as missing:
+            experiment = str(missing).split("/")[0]
+            have, runs = len(results.documents(experiment)), len(EXPERIMENTS[experiment].runs)
+            if have:  # say how far a partly run experiment is, so the board does not read 'not run yet'
+                return Verdict(self, f"partly run: {have} of {runs} runs of {experiment} in, waits for {missing}", None)
             return Verdict(self, f"no results ({missing})", None)
         left_out = results.left_out()
         return Verdict(self, ours + (f" ({left_out})" if left_out else ""), None if holds is None else bool(holds))
@@ -281,9 +285,9 @@ def score(profile_folder: Path, protocol: str, claims: tuple = CLAIMS) -> list[V
 
 
 def _mark(v: Verdict) -> str:
-    """HOLDS, FAILS, '-' (not run yet) or '?' (undecided), five characters wide."""
+    """HOLDS, FAILS, '-' (not run yet, or partly) or '?' (undecided), five characters wide."""
     if v.holds is None:
-        return "  -  " if v.ours.startswith("no results") else "  ?  "
+        return "  -  " if _waits(v.ours) else "  ?  "
     return "HOLDS" if v.holds else "FAILS"
 
 
@@ -299,9 +303,16 @@ def scoreboard_text(verdicts: list[Verdict], profile: str, protocol: str) -> str
             f"({checked} checked)\n" + "\n".join(lines))
 
 
+def _waits(ours: str) -> bool:
+    """Whether a verdict's words (or a board's cell) say its results are not all in yet."""
+    return ours.startswith(("no results", "not run yet", "partly run"))
+
+
 def _cell(v: Verdict) -> str:
     if v.holds is None:
-        return "not run yet" if v.ours.startswith("no results") else f"undecided: {v.ours}"
+        if v.ours.startswith("no results"):
+            return "not run yet"
+        return v.ours if _waits(v.ours) else f"undecided: {v.ours}"
     return f"{'**holds**' if v.holds else 'fails'}: {v.ours}"
 
 
@@ -337,7 +348,7 @@ def _cells(line: str) -> list[str]:
 
 
 def keep_decided(text: str, previous: str) -> tuple[str, list[str]]:
-    """The scoreboard `text` (scoreboard_markdown's) with each 'not run yet' cell that the `previous` one had
+    """The scoreboard `text` (scoreboard_markdown's) with each 'not run yet' or 'partly run' cell that the `previous` one had
     decided taken from it, and the totals recounted: fewer results never take a verdict away.
     Returns (text, 'finding [column]' of every cell kept)."""
     old_lines = previous.splitlines()
@@ -355,7 +366,7 @@ def keep_decided(text: str, previous: str) -> tuple[str, list[str]]:
             continue
         for i, column in enumerate(columns[2:], start=2):
             before = old_rows[cells[0]][old_columns.index(column)] if column in old_columns else None
-            if cells[i] == "not run yet" and before and before != "not run yet":
+            if _waits(cells[i]) and before and not _waits(before):
                 cells[i] = before
                 kept.append(f"{cells[0]} [{column}]")
         out.append("| " + " | ".join(cells) + " |")

@@ -39,6 +39,21 @@ def test_forward_claims_follow_the_numbers(tmp_path):
     assert "| **claims that hold** | | 3 of 15 |" in table and "| not run yet |" in table
 
 
+def test_a_partly_run_experiment_says_how_far_it_is_and_keeps_no_verdict(tmp_path):
+    folder = tmp_path / "full" / "thesis-code"
+    _write(folder, "algo-comparison", "crossq", _document(0.55, 2.0))
+    board = {v.claim.id: v for v in claims.score(tmp_path / "full", "thesis-code")}
+    verdict = board["crossq-first"]
+    assert verdict.holds is None and verdict.ours.startswith("partly run: 1 of 4 runs of algo-comparison in")
+    table = claims.scoreboard_markdown({"full": list(board.values())})
+    assert f"| {verdict.ours} |" in table and "| not run yet |" in table  # forward has no run at all
+    assert "  -  " in claims.scoreboard_text([verdict], "full", "thesis-code")
+    # A board decided before keeps its verdict over a partly run cell, as over an empty one.
+    old = table.replace(f"| {verdict.ours} |", "| **holds**: CrossQ 2.0 min |")
+    text, kept = claims.keep_decided(table, old)
+    assert "| **holds**: CrossQ 2.0 min |" in text and len(kept) == 1
+
+
 def test_jt_falls_fail_when_far_from_the_thesis(tmp_path):
     folder = tmp_path / "quick" / "thesis-text"
     for name, falls in (("jt-nf", 58.0), ("jt-oef", 23.0), ("jt-lpf", 5.0)):
