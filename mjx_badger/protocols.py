@@ -35,7 +35,7 @@ class Protocol:
     > 1500 W for 3 steps (§6). 'tilt-height': our reading of the text, tilt > 0.8 rad or trunk below 0.15 m."""
     cpg_terminates: bool
     """Code: False, `terminated = False` is hard-coded in the CPG env (§6); would-be falls are still
-    counted as `train/would_fall`. Text: True (§5.1.2 reports falls as if they could happen)."""
+    counted as `train/would_falls`. Text: True (§5.1.2 reports falls as if they could happen)."""
     falls_after_warmup: bool
     """Code: True, falls are counted only once learning has started (§6, crossq.py). Text: False, every fall."""
     joint_velocity_clip: float | None
