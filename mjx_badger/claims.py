@@ -23,6 +23,10 @@ CPG = ("cpg-d", "cpg-vf", "cpg-rt")
 class Missing(Exception):
     """A results file a claim needs is not there (yet)."""
 
+    def __init__(self, experiment: str, name: str):
+        super().__init__(f"{experiment}/{name}")
+        self.experiment = experiment
+
 
 class Results:
     """One protocol's results at one profile, loaded lazily per experiment."""
@@ -41,7 +45,7 @@ class Results:
     def document(self, experiment: str, name: str) -> dict:
         found = self.documents(experiment).get(name)
         if found is None:
-            raise Missing(f"{experiment}/{name}")
+            raise Missing(experiment, name)
         self.used.append((experiment, name))
         return found
 
@@ -92,10 +96,10 @@ class Claim:
         try:
             ours, holds = self.measure(results)
         except Missing as missing:
-            experiment = str(missing).split("/")[0]
-            have, runs = len(results.documents(experiment)), len(EXPERIMENTS[experiment].runs)
+            have, runs = len(results.documents(missing.experiment)), len(EXPERIMENTS[missing.experiment].runs)
             if have:  # say how far a partly run experiment is, so the board does not read 'not run yet'
-                return Verdict(self, f"partly run: {have} of {runs} runs of {experiment} in, waits for {missing}", None)
+                return Verdict(self, f"partly run: {have} of {runs} runs of {missing.experiment} in, waits for {missing}",
+                               None)
             return Verdict(self, f"no results ({missing})", None)
         left_out = results.left_out()
         return Verdict(self, ours + (f" ({left_out})" if left_out else ""), None if holds is None else bool(holds))
