@@ -199,7 +199,7 @@ def pdec_versus_random_figure(pdec: dict, random: dict, out: Path, profile: str)
                     style={"ls": "--", "label": None})
     axes[0].legend(fontsize=8, title="solid PDEC, dashed random", title_fontsize=8)
     fig.suptitle(f"Curriculum (PDEC) vs random commands, evaluation over 8 runs ({profile}; "
-                 f"{_seeds_note({**{'random ' + k: v for k, v in random.items()}, **pdec})}); "
+                 f"{_seeds_note({**{'random ' + k: v for k, v in random.items()}, **pdec})});\n"  # one line would be wider than the figure
                  "thesis Fig 5.12: the curriculum improves every CPG approach, desired MAE ~0.05 m/s", fontsize=10)
     return _save(fig, out)
 
