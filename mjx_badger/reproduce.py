@@ -159,7 +159,7 @@ def measured_estimate(todo: list, args, seeds: int) -> str:
         seconds += experiment.steps(run, args.profile) * seeds / measured["seed_steps_per_s"] + measured["compile_s"]
     rates = ", ".join(f"{algo} {m['task']} {m['seed_steps_per_s']:.0f} seed-steps/s" for (algo, _), m in speed.items())
     return (f"measured here ({rates}; compile {max(m['compile_s'] for m in speed.values()):.0f} s at most): "
-            f"about {seconds / 3600:.1f} h for these {len(todo)} runs")
+            f"about {seconds / 3600:.1f} h for " + ("this run" if len(todo) == 1 else f"these {len(todo)} runs"))
 
 
 def copy_run(twin: Path, path: Path) -> None:

@@ -170,6 +170,7 @@ def test_the_full_profile_estimate_is_measured_once_per_algorithm_and_evaluation
     expected_s = sum(experiment.steps(run, "full") * 10 / fake_measure(experiment.train_config(run, "full"), [])
                      ["seed_steps_per_s"] + 60.0 for experiment, run, _ in todo)
     assert f"about {expected_s / 3600:.1f} h for these {len(todo)} runs" in line
+    assert reproduce.measured_estimate(todo[:1], cli.Reproduce(profile="full"), seeds=10).endswith(" h for this run")
 
 
 def test_the_timed_chunk_evaluates_as_long_per_learning_step_as_the_run():
