@@ -135,7 +135,7 @@ def main() -> None:
     }
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(summary, indent=1) + "\n")
-    copies = sum(r["complete"] and "copy_of" in r for r in runs.values())
+    copies = summary["runs_copied"]  # reproduce copies only a complete run
     print(f"{len(done) + copies} of {len(runs)} runs complete ({len(done)} trained, {copies} copied): {own_h:.2f} h of their own"
           + (f" against an estimate of {args.estimate_h:.1f} h for all" if args.estimate_h else "") + f"; wrote {args.out}")
 
