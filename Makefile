@@ -25,7 +25,8 @@ $(VENV)/.installed: pyproject.toml requirements.lock
 install: $(VENV)/.installed
 
 test: install
-	$(VENV)/bin/ruff check mjx_badger tests benchmarks
+	$(VENV)/bin/ruff check mjx_badger tests benchmarks tools docs
+	$(VENV)/bin/lint-imports --no-cache
 	$(MKDOCS) --quiet
 	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile
 
@@ -47,16 +48,17 @@ reference-figures: install
 	$(PY) -m mjx_badger figures --results-dir figures/data --figures-dir figures --profile $(PROFILE) --protocol $(PROTOCOL)
 	$(PY) -m mjx_badger claims --results-dir figures/data --profile $(PROFILE) --markdown figures/claims_$(PROFILE).md
 
+# Each benchmark is a module of the benchmarks package, run from the repository root (docs/benchmarks.md).
 benchmark: install
-	$(PY) benchmarks/bench_spine.py
-	$(PY) benchmarks/bench_contacts.py
-	$(PY) benchmarks/bench_algorithms.py
-	$(PY) benchmarks/bench_realtime.py
+	$(PY) -m benchmarks.bench_spine
+	$(PY) -m benchmarks.bench_contacts
+	$(PY) -m benchmarks.bench_algorithms
+	$(PY) -m benchmarks.bench_realtime
 
 # Peers (sbx CrossQ, with Stable-Baselines3 and PyTorch) go into the venv only here, never for `make test`.
 bench-peers: install
 	$(VENV)/bin/pip install --quiet -r requirements-peers.lock
-	$(PY) benchmarks/bench_peers.py
+	$(PY) -m benchmarks.bench_peers
 
 clean:
 	rm -rf $(VENV) results .pytest_cache

@@ -3,27 +3,27 @@
 For SAC, SAC-UTD20, DroQ and CrossQ: gradient updates/s at 1 and 10 seeds, environment
 steps/s with learning at 1 and 10 seeds, and the most updates per step that fit in a 20 Hz
 and a 40 Hz control period next to one policy inference (the on-robot loop's budget).
-Prints a table and writes benchmarks/results/bench_algorithms.json. Run: `make benchmark`.
+Prints a table and writes benchmarks/results/bench_algorithms.json. Run: `make benchmark`, or
+`python -m benchmarks.bench_algorithms [--algos ...]` from the repository root.
 """
 
 import argparse
 import json
 import math
+import time
 from pathlib import Path
 
 import jax
 import jax.numpy as jnp
-
-import time
-
 import numpy as np
 
-from bench_spine import chunk_program, timed, train_chunk, update_program, updates_per_s
-from mjx_badger import results
-from mjx_badger.agents import ALGORITHMS, make_agent
-from mjx_badger.train import TrainConfig
+from benchmarks.common import RESULTS, chunk_program, timed, train_chunk, update_program, updates_per_s
+from mjx_badger.agents.agent import make_agent
+from mjx_badger.agents.config import ALGORITHMS
+from mjx_badger.learning.config import TrainConfig
+from mjx_badger.records import results
 
-OUT = Path(__file__).parent / "results" / "bench_algorithms.json"
+OUT = RESULTS / "bench_algorithms.json"
 
 
 def training_config(algo):

@@ -1,6 +1,6 @@
 """What checkpointing costs a training run: the seconds spent saving the carry beside the training seconds.
 
-    python benchmarks/bench_checkpoints.py [--steps 5000] [--seeds 3]  -> benchmarks/results/checkpoints.json
+    python -m benchmarks.bench_checkpoints [--steps 5000] [--seeds 3]  -> benchmarks/results/checkpoints.json
 
 Trains CrossQ JT-NF forward (thesis-code) with checkpoints as `train` takes them and reads the
 results file's wall clock: run_s (chunks) and checkpoint_s (saves), and the size of one checkpoint.
@@ -14,10 +14,11 @@ import threading
 import time
 from pathlib import Path
 
-from mjx_badger import checkpoints, runner
-from mjx_badger.train import TrainConfig
+from benchmarks.common import RESULTS
+from mjx_badger.learning import checkpoints, runner
+from mjx_badger.learning.config import TrainConfig
 
-OUT = Path(__file__).parent / "results" / "checkpoints.json"
+OUT = RESULTS / "checkpoints.json"
 
 
 def main():

@@ -1,6 +1,6 @@
 """Where compile time goes: tracing and lowering in Python against compiling in XLA, per program.
 
-    python benchmarks/bench_compile.py [--out benchmarks/results/compile.json] [--durations FILE]
+    python -m benchmarks.bench_compile [--out benchmarks/results/compile.json] [--durations FILE]
 
 For a tiny and a quick configuration of JT-OEF and CPG-D with CrossQ (2 seeds, as `train` vmaps
 them), each of the three programs a run compiles (the training chunk, whose evaluation is part of
@@ -25,10 +25,12 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 
-from mjx_badger import results
-from mjx_badger.env import HB40Env
-from mjx_badger.runner import seeds_chunk
-from mjx_badger.train import TrainConfig, make_train
+from benchmarks.common import RESULTS
+from mjx_badger.learning.config import TrainConfig
+from mjx_badger.learning.programs import seeds_chunk
+from mjx_badger.learning.train import make_train
+from mjx_badger.records import results
+from mjx_badger.sim.env import HB40Env
 
 CONFIGS = {
     "tiny": dict(total_steps=300, chunk_steps=100, warmup_steps=100, eval_steps=20),
@@ -98,12 +100,14 @@ def programs(approach: str, shape: str) -> dict:
 FIRST_CHUNK = """
 import sys, time
 t0 = time.perf_counter()
-from mjx_badger import enable_compilation_cache, runner
-from mjx_badger.train import TrainConfig
+from mjx_badger.core.cache import enable_compilation_cache
+from mjx_badger.learning import programs
+from mjx_badger.learning.config import TrainConfig
+from mjx_badger.learning.train import make_train
 enable_compilation_cache(sys.argv[1])
 imported = time.perf_counter() - t0
 config = TrainConfig(approach="jt-oef", algo="crossq", task="forward", total_steps=20000)
-carry, chunk, compile_s = runner.compiled(runner.make_train(config), [0, 1])
+carry, chunk, compile_s = programs.compiled(make_train(config), [0, 1])
 import jax; jax.block_until_ready(carry)
 starts = time.perf_counter() - t0
 carry, metrics = chunk(carry, 0)
@@ -145,7 +149,7 @@ def compile_share(durations: Path, compile_log: Path | None) -> dict:
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/compile.json"))
+    parser.add_argument("--out", type=Path, default=RESULTS / "compile.json")
     parser.add_argument("--durations", type=Path, help="`pytest --durations=0` output of a test run")
     parser.add_argument("--compile-log", type=Path, help="the MJX_BADGER_COMPILE_LOG folder of that run")
     parser.add_argument("--only", choices=tuple(CONFIGS), help="one configuration shape")

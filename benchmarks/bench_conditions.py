@@ -2,16 +2,16 @@
 on flat ground, and outdoor with the calves also colliding with the stones (a height field's cost grows with
 (geom size / cell)^2), at batch 1 and 64 (JT-OEF, forward task, thesis-code).
 
-Prints a table and writes benchmarks/results/bench_conditions.json. Run: `python benchmarks/bench_conditions.py`.
+Prints a table and writes benchmarks/results/bench_conditions.json. Run: `python -m benchmarks.bench_conditions`.
 """
 
 import json
-from pathlib import Path
 
-from bench_estimators import env_steps_per_s  # the script's own folder is on sys.path
-from mjx_badger import conditions, results
+from benchmarks.common import RESULTS, env_steps_per_s
+from mjx_badger.protocol import conditions
+from mjx_badger.records import results
 
-OUT = Path(__file__).parent / "results" / "bench_conditions.json"
+OUT = RESULTS / "bench_conditions.json"
 CASES = {
     "sim": None,
     "office": conditions.OFFICE,

@@ -1,7 +1,7 @@
 """What the thesis-code robot costs MJX: physics steps/s of the old and new HB40 models, with and
 without the extra floor contacts, at several solver iteration counts; and the full env step.
 
-Prints a table and writes benchmarks/results/bench_contacts.json. Run: `python benchmarks/bench_contacts.py`.
+Prints a table and writes benchmarks/results/bench_contacts.json. Run: `python -m benchmarks.bench_contacts`.
 The old model is the one this suite used before issue 12 (feet-only contacts, 4 Newton iterations,
 its own geometry), read from git history.
 """
@@ -18,14 +18,16 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from bench_spine import timed  # the script's own folder is on sys.path
-from mjx_badger import mjcf, results, robot
-from mjx_badger.env import HB40Env
+from benchmarks.common import RESULTS, timed
+from mjx_badger.records import results
+from mjx_badger.robot import description as robot
+from mjx_badger.robot import mjcf
+from mjx_badger.sim.env import HB40Env
 
 with contextlib.redirect_stdout(io.StringIO()):
     from mujoco import mjx
 
-OUT = Path(__file__).parent / "results" / "bench_contacts.json"
+OUT = RESULTS / "bench_contacts.json"
 OLD_MODEL_COMMIT = "2b26d22"
 STEPS = 200
 

@@ -2,11 +2,11 @@
 learner updates/s and seed-steps/s of a training chunk at 1, 10 and 100 vmapped seeds, each with its compile
 time, on the device JAX finds (the GPU where there is one).
 
-    python benchmarks/bench_device.py --out $OUT/device.json              # the sizes meant for a GPU
-    python benchmarks/bench_device.py --batches 1 4 --seeds 1 2 --steps 50 --out /tmp/device.json  # a try on a CPU
+    python -m benchmarks.bench_device --out $OUT/device.json              # the sizes meant for a GPU
+    python -m benchmarks.bench_device --batches 1 4 --seeds 1 2 --steps 50 --out /tmp/device.json  # a try on a CPU
 
 The training chunk is the forward experiment's JT-NF CrossQ run at the full profile (thesis-code), cut to
-`--steps` learning steps per chunk (runner.short_run); `device_check.sh` runs this and one whole full-profile
+`--steps` learning steps per chunk (programs.short_run); `device_check.sh` runs this and one whole full-profile
 forward run in one sitting.
 """
 
@@ -17,9 +17,10 @@ from pathlib import Path
 
 import jax
 
-from bench_spine import mjx_env_steps_per_s, updates_per_s
-from mjx_badger import results, runner
-from mjx_badger.experiments import EXPERIMENTS
+from benchmarks.common import mjx_env_steps_per_s, updates_per_s
+from mjx_badger.experiments.registry import EXPERIMENTS
+from mjx_badger.learning import programs
+from mjx_badger.records import results
 
 
 def with_compile(measure, *args):
@@ -50,7 +51,7 @@ def main():
         (per_seed, total), call_s = with_compile(updates_per_s, seeds)
         rows["learner"].append({"seeds": seeds, "updates_per_s_per_seed": round(per_seed, 1),
                                 "updates_per_s_total": round(total, 1), "first_and_timed_calls_s": round(call_s, 1)})
-        speed = runner.measure_speed(config, list(range(seeds)), args.steps)
+        speed = programs.measure_speed(config, list(range(seeds)), args.steps)
         rows["training"].append({"seeds": seeds, "seed_steps_per_s": round(speed["seed_steps_per_s"], 1),
                                  "compile_s": round(speed["compile_s"], 1)})
         print(f"{seeds:3d} seeds: learner {total:9.0f} updates/s in all, training {speed['seed_steps_per_s']:9.0f} "

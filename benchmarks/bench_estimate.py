@@ -2,10 +2,10 @@
 short timed chunk without its evaluation (the estimate up to 2026-12-04), with its evaluation cut in proportion
 (since), and of one whole chunk of the run (1,000 learning steps, then the run's own evaluation).
 
-    python benchmarks/bench_estimate.py --out benchmarks/results/estimate_evaluation.json
-    python benchmarks/bench_estimate.py --experiments forward --seeds 2 --out /tmp/estimate.json  # a short try
+    python -m benchmarks.bench_estimate --out benchmarks/results/estimate_evaluation.json
+    python -m benchmarks.bench_estimate --experiments forward --seeds 2 --out /tmp/estimate.json  # a short try
 
-Each rate is its own compiled program's second chunk (runner.measure_speed), so the three differ only in how
+Each rate is its own compiled program's second chunk (programs.measure_speed), so the three differ only in how
 much evaluation follows the learning steps. Pause any other training first: this machine has 2 cores.
 """
 
@@ -13,8 +13,9 @@ import argparse
 import json
 from pathlib import Path
 
-from mjx_badger import results, runner
-from mjx_badger.experiments import EXPERIMENTS
+from mjx_badger.experiments.registry import EXPERIMENTS
+from mjx_badger.learning import programs
+from mjx_badger.records import results
 
 
 def main():
@@ -34,10 +35,10 @@ def main():
         experiment = EXPERIMENTS[name]
         run = next(r for r in experiment.runs if r.approach == args.approach)
         config = experiment.train_config(run, "full")
-        rates = {"without_evaluation": runner.measure_speed(config, seeds),
-                 "with_evaluation": runner.measure_speed(config, seeds, evaluation=True),
+        rates = {"without_evaluation": programs.measure_speed(config, seeds),
+                 "with_evaluation": programs.measure_speed(config, seeds, evaluation=True),
                  # A chunk as long as the run's has the run's whole evaluation after it.
-                 "whole_chunk": runner.measure_speed(config, seeds, config.chunk_steps, evaluation=True)}
+                 "whole_chunk": programs.measure_speed(config, seeds, config.chunk_steps, evaluation=True)}
         row = {"experiment": name, "run": experiment.result_name(run), "seeds": args.seeds,
                "evaluation_commands": len(config.make_task().eval_commands), "eval_steps": config.eval_steps,
                **{f"{k}_seed_steps_per_s": round(v["seed_steps_per_s"], 1) for k, v in rates.items()},

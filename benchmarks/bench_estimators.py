@@ -3,37 +3,18 @@ each velocity estimator, at batch 1 and 64 (JT-OEF, forward task, thesis-code).
 
 The sensors' own cost is the step with `integration` (a trivial estimator) less the step without
 sensing. Prints a table and writes benchmarks/results/bench_estimators.json.
-Run: `python benchmarks/bench_estimators.py [--learned FILE ...]`.
+Run: `python -m benchmarks.bench_estimators [--learned FILE ...]`.
 """
 
 import argparse
 import json
 from pathlib import Path
 
-import jax
-import jax.numpy as jnp
+from benchmarks.common import RESULTS, env_steps_per_s
+from mjx_badger.estimation import estimators, sensors
+from mjx_badger.records import results
 
-from bench_spine import timed  # the script's own folder is on sys.path
-from mjx_badger import estimators, evaluation, results, sensors
-from mjx_badger.env import EnvConfig, HB40Env
-
-OUT = Path(__file__).parent / "results" / "bench_estimators.json"
-STEPS = 40
-
-
-def env_steps_per_s(sensing, batch: int, on_robot=None) -> float:
-    """Control steps per second of jit(vmap(scan of env.step)) over `batch` robots (`on_robot`: conditions)."""
-    env = HB40Env("jt-oef", "forward", EnvConfig(sensing=sensing, conditions=on_robot))
-    actions = 0.3 * jnp.sin(jnp.arange(STEPS)[:, None] * 0.2 + jnp.arange(env.action_size))
-
-    def rollout(key):
-        # Every leaf made to depend on the key: vmap would otherwise step the key-free physics once for the batch.
-        state = evaluation.batched_like(env.reset(key), key)
-        return jax.lax.scan(lambda s, a: (env.step(s, a), None), state, actions)[0].obs
-
-    run = jax.jit(jax.vmap(rollout))
-    keys = jax.random.split(jax.random.PRNGKey(0), batch)
-    return batch * STEPS / timed(run, keys)
+OUT = RESULTS / "bench_estimators.json"
 
 
 def main():

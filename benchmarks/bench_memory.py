@@ -1,8 +1,8 @@
 """Memory per seed: the replay buffer and the whole carry (what a checkpoint stores) of every experiment's runs,
 and the estimate the commands check before compiling (memory.py) against the measured peak of real runs.
 
-    python benchmarks/bench_memory.py          -> benchmarks/results/memory.json
-    python benchmarks/bench_memory.py --peaks  -> benchmarks/results/memory_peak.json (minutes: two real runs)
+    python -m benchmarks.bench_memory          -> benchmarks/results/memory.json
+    python -m benchmarks.bench_memory --peaks  -> benchmarks/results/memory_peak.json (minutes: two real runs)
 
 Sizes come from the carry's shapes (`jax.eval_shape` of the run's init: nothing is compiled or
 allocated), for the quick and full profiles. A checkpoint stores the carry of every seed, so its
@@ -19,12 +19,14 @@ from pathlib import Path
 
 import jax
 
-from mjx_badger import checkpoints
-from mjx_badger.experiments import EXPERIMENTS, PROFILES
-from mjx_badger.train import make_train
+from benchmarks.common import RESULTS, ROOT
+from mjx_badger.experiments.registry import EXPERIMENTS, PROFILES
+from mjx_badger.learning import checkpoints, programs
+from mjx_badger.learning.config import from_results
+from mjx_badger.learning.train import make_train
 
-OUT = Path(__file__).parent / "results" / "memory.json"
-PEAKS = Path(__file__).parent / "results" / "memory_peak.json"
+OUT = RESULTS / "memory.json"
+PEAKS = RESULTS / "memory_peak.json"
 MIB = 2**20
 # The runs measured: the suite's tiny run whole, and a thesis-length buffer (50k steps) for 16 seeds up to its
 # first checkpoint. Every buffer is allocated when the run starts, so the peak is reached by then: the compile,
@@ -52,7 +54,7 @@ def carry_sizes(config) -> dict:
 
 def measured_checkpoints(results_dir: Path) -> list[dict]:
     """Size on disk of any checkpoint left under `results_dir` (an interrupted or running run), beside its carry's."""
-    from mjx_badger import results
+    from mjx_badger.records import results
 
     found = []
     for folder in sorted(Path(results_dir).glob("**/*.ckpt")):
@@ -62,7 +64,7 @@ def measured_checkpoints(results_dir: Path) -> list[dict]:
             continue
         newest = max(steps, key=lambda p: int(p.name))
         document = results.read(document_path)
-        sizes = carry_sizes(results.train_config(document))
+        sizes = carry_sizes(from_results(document))
         found.append({"run": str(document_path.relative_to(results_dir)), "chunks_done": int(newest.name),
                       "seeds": len(document["seeds"]),
                       "on_disk_mib": round(sum(f.stat().st_size for f in newest.rglob("*") if f.is_file()) / MIB, 1),
@@ -72,8 +74,9 @@ def measured_checkpoints(results_dir: Path) -> list[dict]:
 
 def child(spec: dict) -> dict:
     """In a fresh process: the run of `spec` (whole, or up to its first checkpoint) and this process's peak memory."""
-    from mjx_badger import memory, results, runner
-    from mjx_badger.train import TrainConfig
+    from mjx_badger.learning import memory, runner
+    from mjx_badger.learning.config import TrainConfig
+    from mjx_badger.records import results
 
     config, seeds = TrainConfig(**spec["config"]), list(range(spec["seeds"]))
     with tempfile.TemporaryDirectory() as folder:
@@ -81,7 +84,7 @@ def child(spec: dict) -> dict:
         if spec["chunks"] is None:
             runner.run(config, seeds, out, progress=False, tensorboard=False)
         else:
-            carry, chunk, _ = runner.compiled(make_train(config), seeds)
+            carry, chunk, _ = programs.compiled(make_train(config), seeds)
             for index in range(spec["chunks"]):
                 carry, _ = jax.block_until_ready(chunk(carry, index * config.chunk_steps))
             checkpoints.Checkpoints(out, {"seeds": seeds}).save(spec["chunks"], carry)
@@ -91,18 +94,19 @@ def child(spec: dict) -> dict:
 
 def peaks() -> None:
     """Each run of MEASURED in its own process: estimate against measured peak, to benchmarks/results/memory_peak.json."""
-    from mjx_badger import memory
+    from mjx_badger.learning import memory
 
     rows = []
     for spec in MEASURED:
-        done = subprocess.run([sys.executable, __file__, "--child", json.dumps(spec)], capture_output=True, text=True)
+        done = subprocess.run([sys.executable, "-m", "benchmarks.bench_memory", "--child", json.dumps(spec)], cwd=ROOT,
+                              capture_output=True, text=True)
         if done.returncode:
             raise SystemExit(done.stderr[-3000:])
         found = json.loads(done.stdout.strip().splitlines()[-1])
         rows.append({**spec, **found, "estimate_over_peak": round(found["estimate_mib"] / found["peak_mib"], 2)})
         print(f"{spec['what']}: peak {found['peak_mib']:.0f} MiB, estimate {found['estimate_mib']:.0f} MiB "
               f"(x{rows[-1]['estimate_over_peak']})", flush=True)
-    from mjx_badger import results
+    from mjx_badger.records import results
 
     PEAKS.write_text(json.dumps({
         "what": "peak resident memory of a process running each run (ru_maxrss) against memory.estimate, which "

@@ -17,13 +17,13 @@ of the throughput figures. Also: where each learner's time goes (env vs gradient
 the learner's arithmetic rate (XLA's FLOPs per update x updates/s) beside a plain jitted
 matmul at the learner's shapes.
 
-Run: `make bench-peers` (installs the optional `peers` extra: sbx-rl, Stable-Baselines3, torch).
+Run: `make bench-peers` (installs the optional `peers` extra: sbx-rl, Stable-Baselines3, torch), which runs
+`python -m benchmarks.bench_peers` from the repository root.
 Writes benchmarks/results/peers.json and peers.png.
 """
 
 import argparse
 import json
-import sys
 import time
 from pathlib import Path
 
@@ -33,13 +33,12 @@ import jax.numpy as jnp
 import numpy as np
 
 import mjx_badger
-from mjx_badger import policy, results, runner
-from mjx_badger.experiments import EXPERIMENTS, result_name
+from benchmarks.common import RESULTS, mjx_env_steps_per_s, timed, update_program
+from mjx_badger.experiments.registry import EXPERIMENTS, result_name
+from mjx_badger.learning import runner
+from mjx_badger.records import policy, results
 
-sys.path.insert(0, str(Path(__file__).parent))
-from bench_spine import mjx_env_steps_per_s, timed, update_program  # noqa: E402
-
-OUT = Path(__file__).parent / "results" / "peers.json"
+OUT = RESULTS / "peers.json"
 SEEDS, STEPS, EVERY, EVAL_STEPS, WARMUP = 3, 20_000, 1_000, 400, 1_000
 COMMAND = (0.5, 0.0, 0.0)
 ENV_KWARGS = dict(approach="jt-nf", task="forward", protocol="thesis-code")

@@ -1,6 +1,6 @@
 """Does pretraining in MJX cut on-robot falls and time? The on-robot loop on the simulated HB40, from scratch and from a sim-trained agent.
 
-    python benchmarks/bench_pretrained.py [--results RESULTS.json] [--runs 3] [--steps 10000]
+    python -m benchmarks.bench_pretrained [--results RESULTS.json] [--runs 3] [--steps 10000]
         -> benchmarks/results/pretrained.json and pretrained.png
 
 Each run is `realtime` as a user runs it: 40 Hz wall clock, CrossQ learning beside the robot,
@@ -19,14 +19,17 @@ from pathlib import Path
 
 import numpy as np
 
-from mjx_badger import enable_compilation_cache, results
-from mjx_badger.analysis import REACHED_FRACTION
+from benchmarks.common import RESULTS
+from mjx_badger.core.cache import enable_compilation_cache
+from mjx_badger.estimation import sensors
 from mjx_badger.realtime import loop, report
 from mjx_badger.realtime.config import RealtimeConfig
-from mjx_badger import sensors
+from mjx_badger.realtime.report import load_trace
 from mjx_badger.realtime.simulated import SimulatedHB40
+from mjx_badger.records import results
+from mjx_badger.records.analysis import REACHED_FRACTION
 
-OUT = Path(__file__).parent / "results" / "pretrained.json"
+OUT = RESULTS / "pretrained.json"
 DEFAULT_RESULTS = Path("results/quick/thesis-text/forward/jt-oef_crossq_forward.json")
 THRESHOLDS = (0.25, 0.5)
 WINDOW_S = 2.0
@@ -45,7 +48,7 @@ def first_reached(train_s: np.ndarray, velocity: np.ndarray, threshold: float, h
 def one_run(config: RealtimeConfig, folder: Path) -> dict:
     bot = SimulatedHB40(noise=sensors.SensorModel(), reset_seconds=2.0, seed=config.seed, spec=config.robot_spec)
     document = loop.run(config, bot, folder, resume=False, view=False)
-    trace = loop.load_trace(folder, config)
+    trace = load_trace(folder, config)
     train_s, true_vx = report.column(trace, "train_s"), report.column(trace, "true_vx")
     falls_at = train_s[report.column(trace, "fall") > 0]
     reached = {f"seconds_to_{t}": first_reached(train_s, true_vx, t, config.hz) for t in THRESHOLDS}

@@ -10,7 +10,8 @@
    in a process of its own, alone on the machine, for as many periods as the run: what no
    loop on this machine can do better than.
 Writes benchmarks/results/bench_realtime.json (and the run's results under
-benchmarks/results/realtime/). Run: `make benchmark` (all three), or pick one.
+benchmarks/results/realtime/). Run: `make benchmark` (all three), or pick one:
+`python -m benchmarks.bench_realtime --sustain`, `--run` or `--floor` from the repository root.
 """
 
 import argparse
@@ -22,13 +23,17 @@ from pathlib import Path
 
 import numpy as np
 
-from mjx_badger import enable_compilation_cache, results
-from mjx_badger.agents import ALGORITHMS
+from benchmarks.common import RESULTS
+from mjx_badger.agents.config import ALGORITHMS
+from mjx_badger.core.cache import enable_compilation_cache
 from mjx_badger.realtime import figure, loop
+from mjx_badger.realtime.config import RealtimeConfig
+from mjx_badger.realtime.report import load_trace
 from mjx_badger.realtime.simulated import SimulatedHB40
+from mjx_badger.records import results
 
-OUT = Path(__file__).parent / "results" / "bench_realtime.json"
-RUN_DIR = Path(__file__).parent / "results" / "realtime"
+OUT = RESULTS / "bench_realtime.json"
+RUN_DIR = RESULTS / "realtime"
 
 
 # A second process samples the machine's steal time (CPU time the hypervisor gave to someone
@@ -120,7 +125,7 @@ def sustain(seconds: float, warmup_steps: int = 200) -> list[dict]:
     rows = []
     for algo in ALGORITHMS:
         for hz in (20.0, 40.0):
-            config = loop.RealtimeConfig(approach="jt-oef", algo=algo, control_hz=hz, warmup_steps=warmup_steps,
+            config = RealtimeConfig(approach="jt-oef", algo=algo, control_hz=hz, warmup_steps=warmup_steps,
                                          steps=warmup_steps + int(seconds * hz), unthrottled=True, eval_seconds=0.0)
             document = loop.run(config, SimulatedHB40(reset_seconds=0.5), RUN_DIR / "sustain", resume=False,
                                 view=False)
@@ -135,7 +140,7 @@ def sustain(seconds: float, warmup_steps: int = 200) -> list[dict]:
 
 def evidence_run(steps: int, seed: int, lock_memory: bool = True) -> dict:
     """CrossQ JT-OEF at 40 Hz on the simulated robot, as the thesis's office run (Table 5.3)."""
-    config = loop.RealtimeConfig(approach="jt-oef", algo="crossq", steps=steps, seed=seed)
+    config = RealtimeConfig(approach="jt-oef", algo="crossq", steps=steps, seed=seed)
     out = run_dir(seed, lock_memory)
     with steal_sampled(out / "steal.log") as samples:
         document = loop.run(config, SimulatedHB40(seed=seed), out, resume=False,  # a measurement starts afresh
@@ -145,7 +150,7 @@ def evidence_run(steps: int, seed: int, lock_memory: bool = True) -> dict:
         # The late tick started at unix_time; the stall lay somewhere in the period before it.
         worst["steal_ms"] = _steal_ms(steal, worst["unix_time"] - worst["period_ms"] / 1000 - 0.02,
                                       worst["unix_time"] + 0.02)
-    figure.draw(document, loop.load_trace(out, config), out / f"{config.name}.png")
+    figure.draw(document, load_trace(out, config), out / f"{config.name}.png")
     rows = document["rows"]
     best = max((r for r in rows if r["true_velocity"] is not None), key=lambda r: r["true_velocity"], default=None)
     summary = {

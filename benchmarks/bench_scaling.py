@@ -1,9 +1,9 @@
 """Seed-steps/s and compile time against the number of vmapped seeds, on this machine.
 
-For each seed count, `runner.measure_speed` compiles a JT-NF CrossQ chunk (thesis-code, 200 learning
+For each seed count, `programs.measure_speed` compiles a JT-NF CrossQ chunk (thesis-code, 200 learning
 steps, updates from the first step) for that many seeds and times one chunk after an untimed
 first one. Writes benchmarks/results/scaling.json and scaling.png. Run on an idle machine:
-`python benchmarks/bench_scaling.py [--seeds 1 2 4 8 16 32 64]`.
+`python -m benchmarks.bench_scaling [--seeds 1 2 4 8 16 32 64]`.
 
 With `--members 1 2 4 8` it measures the sweep axis instead (scaling_sweep.json/.png): that
 many learning rates of the same run, one seed each, as one sweep program (sweep.py), with all
@@ -17,10 +17,12 @@ from pathlib import Path
 
 import jax
 
-from mjx_badger import results, runner, sweep
-from mjx_badger.train import TrainConfig
+from benchmarks.common import RESULTS
+from mjx_badger.learning import programs, sweep
+from mjx_badger.learning.config import TrainConfig
+from mjx_badger.records import results
 
-OUT = Path(__file__).parent / "results" / "scaling.json"
+OUT = RESULTS / "scaling.json"
 
 
 def plot(rows: list, path: Path, device: str) -> None:
@@ -47,9 +49,9 @@ def measure_sweep(config: TrainConfig, members: int, vmapped: int, steps: int = 
     """Seed-steps/s and compile seconds of a sweep of `members` learning rates, one seed each."""
     rate = config.agent_config.learning_rate
     axes = (("algo_params.learning_rate", tuple(rate * (1 + k / 10) for k in range(members))),)
-    program = sweep.Sweep(runner.short_run(config, steps), axes, [0], vmapped)
+    program = sweep.Sweep(programs.short_run(config, steps), axes, [0], vmapped)
     carry, chunk, compile_s = program.compiled()
-    return runner.timed_chunk(carry, chunk, steps, members, compile_s)
+    return programs.timed_chunk(carry, chunk, steps, members, compile_s)
 
 
 def plot_sweep(rows: list, path: Path, device: str) -> None:
@@ -101,7 +103,7 @@ def main():
     args.out = args.out or OUT
     rows = []
     for count in args.seeds:
-        measured = runner.measure_speed(config, list(range(count)))
+        measured = programs.measure_speed(config, list(range(count)))
         rows.append({"seeds": count, **measured})
         print(f"{count:3d} seeds: {measured['seed_steps_per_s']:7.1f} seed-steps/s, compile {measured['compile_s']:.1f} s",
               flush=True)

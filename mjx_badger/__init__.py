@@ -1,7 +1,6 @@
 """mjx_badger: MuJoCo-MJX benchmark suite for quadruped locomotion learning on the HB40."""
 
 import os
-from pathlib import Path
 
 
 def _choose_offscreen_gl() -> None:
@@ -30,18 +29,7 @@ def _register_gymnasium() -> None:
     import gymnasium
 
     if GYM_ENV_ID not in gymnasium.registry:
-        gymnasium.register(id=GYM_ENV_ID, entry_point="mjx_badger.gym_env:HB40GymEnv")
+        gymnasium.register(id=GYM_ENV_ID, entry_point="mjx_badger.sim.gym_env:HB40GymEnv")
 
 
 _register_gymnasium()
-
-
-def enable_compilation_cache(path: str | os.PathLike | None = None) -> Path:
-    """Keep XLA executables on disk so a rerun of the same configuration skips compilation."""
-    import jax
-
-    cache = Path(path or os.environ.get("MJX_BADGER_CACHE", Path.home() / ".cache" / "mjx_badger" / "jax"))
-    cache.mkdir(parents=True, exist_ok=True)
-    jax.config.update("jax_compilation_cache_dir", str(cache))
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 1.0)
-    return cache

@@ -2,6 +2,6 @@
 
 import sys
 
-from mjx_badger.cli import main
+from mjx_badger.cli.main import main
 
 sys.exit(main())

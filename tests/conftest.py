@@ -13,9 +13,13 @@ import jax.monitoring
 import jax.numpy as jnp
 import pytest
 
-from mjx_badger import enable_compilation_cache, runner
-from mjx_badger.env import EnvConfig, HB40Env
-from mjx_badger.train import TrainConfig, make_train
+from mjx_badger.core.cache import enable_compilation_cache
+from mjx_badger.learning import programs
+from mjx_badger.learning.config import TrainConfig
+from mjx_badger.learning.train import make_train
+from mjx_badger.protocol import conditions
+from mjx_badger.sim.env import EnvConfig, HB40Env
+from mjx_badger.tasks import locomotion as tasks
 
 # One compilation cache per test run, shared by the xdist workers and the commands tests start in
 # subprocesses (they read MJX_BADGER_CACHE): a program compiled by one test is loaded by the others,
@@ -105,6 +109,14 @@ def cpg_code_env():
 
 
 @pytest.fixture(scope="session")
+def office():
+    """JT-OEF under the office conditions with a probe task whose reward is the (sensed) forward velocity it is given,
+    to see which velocity reaches the reward."""
+    probe = tasks.forward()._replace(reward=lambda motion, command: (motion.linear_velocity[0], {}))
+    return HB40Env("jt-oef", probe, EnvConfig(conditions=conditions.OFFICE))
+
+
+@pytest.fixture(scope="session")
 def trainer():
     return make_train(TINY_TRAIN)
 
@@ -113,9 +125,19 @@ def trainer():
 def train_fns(trainer):
     """jit(vmap(init)) and the compiled chunk of the tiny run for two seeds: the very program `runner.run` of
     TINY_TRAIN with two seeds uses in this process, so tests that train it compile it once."""
-    built, _ = runner.program(trainer, 2)
+    built, _ = programs.program(trainer, 2)
     return built.init, built.chunk
 
 
 def seed_keys(seeds):
     return jax.vmap(jax.random.PRNGKey)(jnp.asarray(seeds))
+
+
+def run_all_chunks(train_fns, seeds):
+    init, chunk = train_fns
+    carry = init(seed_keys(seeds))
+    history = []
+    for index in range(TINY_TRAIN.num_chunks):
+        carry, metrics = chunk(carry, index * TINY_TRAIN.chunk_steps)
+        history.append(jax.device_get(metrics))
+    return carry, history

@@ -7,7 +7,9 @@ ignores. A real robot's adapter registers itself here the same way, so the comma
 
 from typing import Callable
 
+from mjx_badger.estimation import sensors
 from mjx_badger.realtime.interface import Robot
+from mjx_badger.realtime.simulated import SimulatedHB40
 
 ADAPTERS: dict[str, Callable] = {}
 """Adapter name -> factory(config: RealtimeConfig, **options) -> interface.Robot."""
@@ -33,9 +35,6 @@ def make(name: str, config, **options) -> Robot:
 
 def simulated(config, reset_seconds: float = 2.0, sensor_noise: bool = True, **_) -> Robot:
     """The simulated HB40 (or the run's robot spec) under the run's conditions, with their sensors' noise."""
-    from mjx_badger import sensors
-    from mjx_badger.realtime.simulated import SimulatedHB40
-
     on_robot = config.conditions_spec
     noise = on_robot.sensing.sensors if on_robot.sensing is not None else sensors.SensorModel()
     return SimulatedHB40(noise=noise if sensor_noise else None, reset_seconds=reset_seconds, seed=config.seed,

@@ -4,11 +4,12 @@ import dataclasses
 
 import tyro
 
-from mjx_badger import tasks, validation
-from mjx_badger.actions import is_cpg
-from mjx_badger.agents import AgentConfig
-from mjx_badger.spec import RunSpec
-
+from mjx_badger.agents.config import AgentConfig
+from mjx_badger.control.actions import is_cpg
+from mjx_badger.core import validation
+from mjx_badger.learning.spec import RunSpec
+from mjx_badger.realtime import pretrained
+from mjx_badger.tasks import locomotion as tasks
 
 MAX_SPEED = 5.0
 """m/s: ten times the thesis's commands, beyond any the HB40 can walk."""
@@ -93,8 +94,6 @@ class RealtimeConfig(RunSpec):
         if self.warmup_steps >= self.steps:
             raise ValueError(f"warmup_steps ({self.warmup_steps}) must be smaller than steps ({self.steps})")
         if self.init_from is not None:
-            from mjx_badger.realtime import pretrained
-
             pretrained.check(self)
 
     def make_task(self) -> tasks.Task:

@@ -10,18 +10,20 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mjx_badger import cpg, tasks
-from mjx_badger.actions import is_cpg
-from mjx_badger.agents import make_agent
+from mjx_badger.agents.agent import make_agent
 from mjx_badger.agents.losses import Transition
-from mjx_badger.env import EnvConfig, HB40Env, roll_pitch
+from mjx_badger.control import cpg
+from mjx_badger.control.actions import is_cpg
 from mjx_badger.realtime import report, safety, scheduling
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
+from mjx_badger.realtime.host_replay import HostReplay
 from mjx_badger.realtime.interface import Robot, Sensors, rotation_matrix
 from mjx_badger.realtime.learner import Learner
-from mjx_badger.realtime.host_replay import HostReplay
 from mjx_badger.realtime.view import View
+from mjx_badger.sim.env import EnvConfig, HB40Env
+from mjx_badger.sim.observation import roll_pitch
+from mjx_badger.tasks import locomotion as tasks
 
 
 class Measured(NamedTuple):

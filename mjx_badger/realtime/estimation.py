@@ -1,13 +1,13 @@
-"""The on-robot loop's velocity estimate: the shared §2.6.1 estimator (mjx_badger/estimators.py)
+"""The on-robot loop's velocity estimate: the shared §2.6.1 estimator (mjx_badger/estimation/estimators.py)
 fed from the robot's Sensors, one reading per control step. No second implementation lives here."""
 
 import jax
 import numpy as np
 
-from mjx_badger import estimators
-from mjx_badger.estimators import KalmanConfig
+from mjx_badger.estimation import estimators
+from mjx_badger.estimation.estimators import KalmanConfig
 from mjx_badger.realtime.interface import Sensors, rotation_matrix
-from mjx_badger.robot import HB40, RobotSpec
+from mjx_badger.robot.description import HB40, RobotSpec
 
 __all__ = ["KalmanConfig", "VelocityEstimator", "estimator_name", "leg_odometry", "reading"]
 

@@ -8,7 +8,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mjx_badger import safe_io  # noqa: E402
+from mjx_badger.core import safe_io
 from mjx_badger.realtime.report import column  # noqa: E402
 
 

@@ -5,8 +5,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mjx_badger import safe_io
 from mjx_badger.agents.losses import Transition
+from mjx_badger.core import safe_io
 
 
 class HostReplay:

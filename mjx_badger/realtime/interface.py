@@ -11,7 +11,7 @@ from typing import Protocol
 
 import numpy as np
 
-from mjx_badger import robot
+from mjx_badger.robot import description as robot
 
 
 @dataclasses.dataclass(frozen=True)

@@ -9,20 +9,17 @@ from pathlib import Path
 
 import jax
 
-from mjx_badger import locks, results
-from mjx_badger.realtime import control, pretrained, report, scheduling, session_checkpoint
+from mjx_badger.core import locks
+from mjx_badger.realtime import adapters, control, figure, pretrained, report, scheduling, session_checkpoint
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.control import Progress, build
 from mjx_badger.realtime.estimation import KalmanConfig, VelocityEstimator, estimator_name
+from mjx_badger.realtime.host_replay import HostReplay
 from mjx_badger.realtime.interface import Robot
 from mjx_badger.realtime.learner import Learner, replay_ratio_cap
-from mjx_badger.realtime.host_replay import HostReplay
-from mjx_badger.realtime.report import LOG_EVERY_STEPS, SCHEMA, TRACE, load_trace
+from mjx_badger.realtime.report import load_trace
 from mjx_badger.realtime.view import View, say
-
-# What callers imported from this module before it was split, importable from here still.
-__all__ = ["run", "RealtimeConfig", "HostReplay", "Learner", "Progress", "build", "load_trace", "SCHEMA",
-           "TRACE", "LOG_EVERY_STEPS"]
+from mjx_badger.records import results
 
 
 def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realtime"), resume: bool = True,
@@ -36,6 +33,16 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     """
     with locks.hold(report.document_path(out_dir, config), "this on-robot run"):
         return _run(config, bot, out_dir, resume, view, kalman, lock_memory)
+
+
+def run_adapter(name: str, config: RealtimeConfig, out_dir: Path, reset_seconds: float = 2.0, sensor_noise: bool = True,
+                resume: bool = True, view: bool = True) -> tuple[dict, Path | None]:
+    """`run` on the robot the adapter `name` gives (adapters.py), then the run's figure: (document, figure or None)."""
+    bot = adapters.make(name, config, reset_seconds=reset_seconds, sensor_noise=sensor_noise)
+    document = run(config, bot, out_dir, resume=resume, view=view)
+    if not document["steps"]:
+        return document, None
+    return document, figure.draw(document, load_trace(out_dir, config), Path(out_dir) / f"{config.name}.png")
 
 
 def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: bool, kalman: KalmanConfig,

@@ -8,7 +8,8 @@ approach, algorithm, network sizes and robot.
 
 import jax
 
-from mjx_badger import checkpoints, results
+from mjx_badger.learning import checkpoints
+from mjx_badger.records import results
 
 
 def check(config) -> None:

@@ -51,7 +51,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mjx_badger import results, safe_io
+from mjx_badger.core import safe_io
+from mjx_badger.records import results
 
 SCHEMA = "mjx_badger.realtime/1"
 LOG_EVERY_STEPS = 200

@@ -1,24 +1,11 @@
-"""The safety monitor: when to stop the motors before the robot hurts itself."""
-
+"""The safety monitor: why the robot must stop now, in words, from one sensor reading (robot/safety.py's rule)."""
 
 import numpy as np
 
-from mjx_badger import kinematics, robot
 from mjx_badger.realtime.interface import Sensors, roll_pitch, rotation_matrix
-from mjx_badger.robot import HB40, RobotSpec
-
-JOINT_MARGIN_RAD = 0.05
-"""A joint this far outside its mechanical range trips (encoders overshoot the stops a little)."""
-
-
-def trips(rotation, joint_angle, spec: RobotSpec = HB40, xp=np):
-    """Whether the monitor stops the robot: a roll or pitch past the spec's fall tilt or a joint out of its range
-    (`xp` numpy, or jax.numpy in the vmapped env, which applies the same rule under on-robot conditions)."""
-    roll, pitch = robot.roll_pitch(rotation, xp)
-    limits = kinematics.leg(spec)
-    angle = xp.reshape(joint_angle, (-1,))
-    outside = (angle < limits.lower.reshape(-1) - JOINT_MARGIN_RAD) | (angle > limits.upper.reshape(-1) + JOINT_MARGIN_RAD)
-    return (xp.abs(roll) > spec.fall_tilt_rad) | (xp.abs(pitch) > spec.fall_tilt_rad) | xp.any(outside)
+from mjx_badger.robot import kinematics
+from mjx_badger.robot.description import HB40, RobotSpec
+from mjx_badger.robot.safety import JOINT_MARGIN_RAD
 
 
 def check(sensors: Sensors, spec: RobotSpec = HB40) -> str | None:

@@ -16,7 +16,7 @@ fault in an unlocked 20k-step run, none locked.)
 
 Neither can hide a machine's own stalls: on the development VM a bare SCHED_FIFO sleep loop,
 alone on the machine, still stalls for 10-35 ms at times, from none in one 20k-period reading
-to 42 in another while the host was busy (`benchmarks/bench_realtime.py --floor`).
+to 42 in another while the host was busy (`python -m benchmarks.bench_realtime --floor`).
 """
 
 import contextlib

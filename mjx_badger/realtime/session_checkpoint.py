@@ -6,7 +6,7 @@ from pathlib import Path
 import flax.serialization
 import numpy as np
 
-from mjx_badger import safe_io
+from mjx_badger.core import safe_io
 
 COUNTERS = ("step", "falls", "episodes", "train_seconds", "reset_seconds", "rows")
 """The run's progress counters the checkpoint keeps (progress.json, beside the settings and updates)."""

@@ -12,10 +12,12 @@ import time
 import mujoco
 import numpy as np
 
-from mjx_badger import mjcf, motors, robot, sensors
-from mjx_badger.conditions import SIM, Conditions
+from mjx_badger.estimation import sensors
+from mjx_badger.protocol.conditions import SIM, Conditions
 from mjx_badger.realtime import scheduling
 from mjx_badger.realtime.interface import Robot, Sensors
+from mjx_badger.robot import description as robot
+from mjx_badger.robot import mjcf, motors
 
 
 class SimulatedHB40(Robot):

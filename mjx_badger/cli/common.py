@@ -1,0 +1,99 @@
+"""What the commands share: the profile, protocol and experiment names they take, several processes (`Cluster`),
+and the options of a run's seeds and output (`Runs`)."""
+
+import dataclasses
+from pathlib import Path
+from typing import Annotated, Literal, Optional
+
+import jax
+import tyro
+
+from mjx_badger.core import cluster
+from mjx_badger.core.validation import INT32_MAX, integer, writable_dir
+from mjx_badger.experiments.registry import EXPERIMENTS, GROUPS, PROFILES
+from mjx_badger.learning.config import TrainConfig
+from mjx_badger.learning.programs import check_seeds_divide
+from mjx_badger.protocol.protocols import PROTOCOLS
+
+MAX_SEEDS = 1_000_000
+"""More seeds than any machine holds; the memory check refuses far fewer on most."""
+DESCRIPTION = "mjx_badger: the thesis's simulation experiments on MJX, their claims scored, and the on-robot loop."
+Profile = Literal[tuple(PROFILES)]
+ProtocolName = Literal[tuple(PROTOCOLS)]
+ExperimentName = Literal[tuple(EXPERIMENTS) + tuple(GROUPS)]
+Flat = tyro.conf.arg(name="")
+"""A nested run spec whose fields are the command's own options (--approach, not --run.approach)."""
+
+
+def check_seed_devices(seeds: int) -> None:
+    """The seeds split evenly over this machine's devices (programs.seed_sharding), checked before any compile."""
+    check_seeds_divide(seeds, jax.device_count())
+
+
+@dataclasses.dataclass(frozen=True)
+class Cluster:
+    """Several processes, on one host or many, through jax.distributed; none of these: one process."""
+
+    coordinator: Optional[str] = None
+    """HOST:PORT of process 0, with --num-processes and --process-id (each process runs the same command)."""
+    num_processes: Optional[int] = None
+    """How many processes the cluster has (with --coordinator)."""
+    process_id: Optional[int] = None
+    """This process's number, 0..N-1 (with --coordinator)."""
+    distributed: bool = False
+    """Join the cluster JAX detects by itself (Slurm, Open MPI, Cloud TPU)."""
+
+    def check(self) -> None:
+        """ValueError for an incomplete or malformed address; joins nothing."""
+        if self.coordinator is None and not self.distributed:
+            if self.num_processes is not None or self.process_id is not None:
+                raise ValueError("--num-processes and --process-id need --coordinator HOST:PORT")
+            return
+        if self.coordinator is not None:
+            if self.num_processes is None or self.process_id is None:
+                raise ValueError("--coordinator needs --num-processes and --process-id")
+            host, _, port = self.coordinator.rpartition(":")
+            if not host or not port.isdigit() or not 0 < int(port) < 65536:
+                raise ValueError(f"--coordinator takes HOST:PORT with a port in 1..65535, not {self.coordinator!r}")
+            integer("--num-processes", self.num_processes, 1, 4096)
+            if not 0 <= self.process_id < self.num_processes:
+                raise ValueError(f"--process-id must be in 0..{self.num_processes - 1}, not {self.process_id}")
+
+    def start(self) -> None:
+        """Join the cluster before JAX touches a device; ValueError for an incomplete address."""
+        self.check()
+        if self.coordinator is None and not self.distributed:
+            return
+        cluster.join(self.coordinator, self.num_processes, self.process_id)
+
+
+@dataclasses.dataclass(frozen=True)
+class Runs:
+    """What `train` and `sweep` share: the run, its seeds and where the results go."""
+
+    run: Annotated[TrainConfig, Flat] = TrainConfig()
+    seeds: int = 3
+    """Number of seeds, vmapped in one program (in a sweep: per member)."""
+    first_seed: int = 0
+    """The first seed: the run trains seeds FIRST..FIRST+SEEDS-1."""
+    out: Path = Path("results")
+    """Folder for the results files."""
+    quiet: bool = False
+    """No progress bar."""
+    restart: bool = False
+    """Start over, though an interrupted run of this configuration left a checkpoint to resume from."""
+    tensorboard: bool = True
+    """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
+    dry_run: bool = False
+    """Check everything and print the plan with its memory estimate; train nothing."""
+
+    @property
+    def seed_list(self) -> list[int]:
+        return list(range(self.first_seed, self.first_seed + self.seeds))
+
+    def check_runs(self) -> None:
+        if self.seeds <= 0:
+            raise ValueError(f"--seeds must be a positive number, not {self.seeds}")
+        integer("--seeds", self.seeds, 1, MAX_SEEDS)
+        integer("--first-seed", self.first_seed, 0, INT32_MAX - self.seeds + 1)
+        writable_dir(self.out, "output folder")

@@ -1,0 +1,84 @@
+"""`train` one configuration over many seeds, and `sweep` a grid of its numeric parameters, as one program each."""
+
+import dataclasses
+import sys
+from pathlib import Path
+from typing import Annotated, Optional
+
+import tyro
+
+from mjx_badger.cli.common import Cluster, Flat, Runs, check_seed_devices
+from mjx_badger.learning import memory, runner, sweep
+
+
+@dataclasses.dataclass(frozen=True)
+class Train(Runs):
+    """Train one configuration over many seeds in one vmapped program."""
+
+    cluster: Annotated[Cluster, Flat] = Cluster()
+
+    def check(self) -> None:
+        self.check_runs()
+        self.cluster.check()
+        if not self.dry_run:  # joined before JAX touches a device, which the estimate does
+            self.cluster.start()
+        check_seed_devices(self.seeds)
+        memory.check(self.run, self.seeds)
+
+    def __call__(self) -> int:
+        config = self.run
+        if self.dry_run:
+            print(f"would train {config.name} ({config.protocol} protocol, robot {config.robot}): {self.seeds} seeds x "
+                  f"{config.total_steps} steps in {config.num_chunks} chunks, into {self.out / (config.name + '.json')}")
+            print(memory.words(config, self.seeds))
+            return 0
+        out = self.out / f"{config.name}.json"
+        print(f"protocol {config.protocol}, robot {config.robot}"
+              + "".join(f", {k}={v!r}" for k, v in config.protocol_changes))
+        document = runner.run(config, self.seed_list, out, progress=not self.quiet, resume=not self.restart,
+                              tensorboard=self.tensorboard)
+        print(f"wrote {out} ({document['wall_clock']['seed_steps_per_s']} seed-steps/s, "
+              f"compile {document['wall_clock']['compile_s']} s)")
+        return 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Sweep(Runs):
+    """Train every combination of a grid of numeric parameters as one program; one results file per member."""
+
+    out: Path = Path("results/sweep")
+    """Folder for the members' results files."""
+    vary: Annotated[tuple[str, ...], tyro.conf.UseAppendAction] = ()
+    """GROUP.NAME=V1,V2,... with GROUP approach_params, algo_params or task_params; repeat for a grid."""
+    grid: Optional[Path] = None
+    """A JSON file {"GROUP.NAME": [values], ...}, combined with any --vary."""
+    vmapped: int = 1
+    """Members vmapped together: 1 gives each member's separate-run numbers to the bit; more is faster on a GPU."""
+
+    def axes(self) -> tuple:
+        return (sweep.read_grid(self.grid) if self.grid else ()) + tuple(sweep.parse_axis(v) for v in self.vary)
+
+    def check(self) -> None:
+        self.check_runs()
+        members = sweep.members(self.run, self.axes())
+        sweep.check_groups(len(members), self.vmapped)
+        memory.check(self.run, self.seeds, members=len(members))
+
+    def __call__(self) -> int:
+        if self.dry_run:
+            members = sweep.members(self.run, self.axes())
+            print(f"would sweep {len(members)} members of {self.run.name} x {self.seeds} seeds in groups of "
+                  f"{min(self.vmapped, len(members))}, into {self.out}")
+            print(memory.words(self.run, self.seeds, members=len(members)))
+            return 0
+        try:
+            documents = sweep.run(self.run, self.axes(), self.seed_list, self.out, self.vmapped, progress=not self.quiet,
+                                  resume=not self.restart, tensorboard=self.tensorboard)
+        except ValueError as error:  # refused after building the members: shapes, or a field fixed when built
+            print(f"error: {error}", file=sys.stderr)
+            return 2
+        for document in documents:
+            print(f"wrote {self.out / document['policy'].replace('.policy.npz', '.json')}")
+        print(f"{len(documents)} members x {self.seeds} seeds: {documents[0]['wall_clock']['seed_steps_per_s']} "
+              f"seed-steps/s, compile {documents[0]['wall_clock']['compile_s']} s")
+        return 0

@@ -1,0 +1,138 @@
+"""On-robot conditions: the thesis's real-world experiments (§5.2) as frozen settings of the simulated robot.
+
+`sim` is the simulation chapter's world and every experiment's default. `office` and `outdoor`
+are what learning on the HB40 met: the reward and the observation see the onboard velocity
+estimate, not the truth (§2.6.1: a Kalman filter over all four legs, which underestimates); the
+sensors are noisy; a safety monitor stops the motors on a tilt or a joint out of range, the
+episode ends as a fall, and an operator stands the robot up again, which costs wall time; and
+the ground is a smooth office floor or outdoor cobblestones on a slope. Each field is one
+factor, so `attribute` can swap one at a time (attribution.py).
+"""
+
+import dataclasses
+
+from mjx_badger.core import validation
+from mjx_badger.estimation import estimators
+from mjx_badger.estimation.sensors import EXACT, Sensing
+from mjx_badger.robot.terrain import Ground
+
+
+@dataclasses.dataclass(frozen=True)
+class Conditions:
+    """What the robot learns under: its senses, its safety monitor, its ground."""
+
+    name: str
+    sensing: Sensing | None = None
+    """Noisy sensors and an onboard velocity estimator (None: the simulator's truth, no estimate)."""
+    estimate_in_loop: bool = False
+    """The observation's trunk-velocity block and the reward's velocity are the estimate (§5.2: the robot had only it)."""
+    safety_stop: bool = False
+    """The robot stops itself, damping its motors (§5.2: P 0, D 3; the released code's collapse: D 5), counts a fall
+    and ends the episode, in place of the protocol's termination rule. The rule is the protocol's robot's:
+    thesis-code the released robot env's (heading pitched 30 deg, 4 rad/s, or 1.5 rad of roll or pitch),
+    thesis-text the on-robot loop's monitor (the fall tilt, or a joint out of range)."""
+    episode_seconds: float | None = None
+    """Episode length on the robot (the released robot env: 20 s); None: the protocol's."""
+    reset_seconds: float = 0.0
+    """Wall time an operator needs to stand the robot up after a fall, added to the run's duration (assumed)."""
+    ground: Ground = Ground()
+    push_newtons: float = 0.0
+    """Wind: a horizontal push of this size on the trunk, new direction each episode (0: none)."""
+    robot_controller: bool = False
+    """The joint-target approaches run on the robot's own PD controller (Kp 60, Kd 3) at their algorithm's rate
+    (CrossQ 40 Hz, SAC-UTD20 20 Hz, §5.2), as the released on-robot scripts run them, in place of the simulation
+    code's 25 / 1 at 50 Hz (thesis-code only; thesis-text is already so)."""
+
+    def validate(self) -> None:
+        self.ground.validate()
+        if self.sensing is not None and self.sensing.estimator not in estimators.names():
+            raise ValueError(f"unknown estimator {self.sensing.estimator!r}; choose from {', '.join(estimators.names())}")
+        if self.estimate_in_loop and self.sensing is None:
+            raise ValueError(f"conditions {self.name!r}: the estimate in the loop needs sensing")
+        if self.reset_seconds < 0 or self.push_newtons < 0:
+            raise ValueError(f"conditions {self.name!r}: reset_seconds and push_newtons must not be negative")
+
+    def replace(self, **changes) -> "Conditions":
+        """A copy with fields changed (a one-factor swap); `ground.<field>` names a ground field, `sensing` takes
+        None, 'exact' (exact sensors, the default estimator) or an estimator's name (the default sensors with it)."""
+        ground = {k.split(".", 1)[1]: v for k, v in changes.items() if k.startswith("ground.")}
+        rest = {k: v for k, v in changes.items() if not k.startswith("ground.")}
+        fields = {f.name for f in dataclasses.fields(self)} - {"name", "ground"}
+        unknown = sorted(set(rest) - fields) + [f"ground.{k}" for k in sorted(set(ground) - {f.name for f in
+                                                                                              dataclasses.fields(Ground)})]
+        if unknown:
+            raise ValueError(f"unknown condition fields {', '.join(unknown)}; choose from {', '.join(sorted(fields))}, "
+                             f"ground.{', ground.'.join(f.name for f in dataclasses.fields(Ground))}")
+        if isinstance(ground.get("friction"), (int, float)) and not isinstance(ground["friction"], bool):
+            ground["friction"] = (float(ground["friction"]),) * 2
+        # The kind of value each field holds (any of the defined conditions' kinds), before it is set.
+        for key, value in rest.items():
+            if key != "sensing":
+                validation.like_any("condition field", key, value, [getattr(c, key) for c in CONDITIONS.values()])
+            elif value is not None and not isinstance(value, (str, Sensing)):
+                raise ValueError(f"condition field sensing takes None, 'exact' or an estimator's name, not {value!r}")
+        for key, value in ground.items():
+            validation.like_any("condition field", f"ground.{key}", value,
+                                [getattr(c.ground, key) for c in CONDITIONS.values()])
+        if rest.get("sensing") == "exact":
+            rest["sensing"] = Sensing(sensors=EXACT)
+        elif isinstance(rest.get("sensing"), str):
+            rest["sensing"] = Sensing(estimator=rest["sensing"])
+        out = dataclasses.replace(self, ground=dataclasses.replace(self.ground, **ground), **rest)
+        out.validate()
+        return out
+
+
+SIM = Conditions("sim")
+"""The simulation chapter: true velocity, exact sensors, the protocol's termination rule, a flat floor."""
+
+OFFICE = Conditions(
+    "office",
+    sensing=Sensing(),
+    estimate_in_loop=True,
+    safety_stop=True,
+    reset_seconds=20.0,
+    episode_seconds=20.0,
+    ground=Ground(friction=(1.0, 1.0)),
+    robot_controller=True,
+)
+"""§5.2.1: an office's smooth floor (friction 1.0, below the model's 1.1: assumed, and the lowest at which MJX's solver
+holds with the model's impratio 100, see MIN_FRICTION), the estimate in the loop, the robot's own stop, and about 20 s
+to carry the robot back and stand it up (assumed)."""
+
+OUTDOOR = Conditions(
+    "outdoor",
+    sensing=Sensing(),
+    estimate_in_loop=True,
+    safety_stop=True,
+    reset_seconds=20.0,
+    episode_seconds=20.0,
+    ground=Ground(terrain="cobblestones", friction=(1.0, 1.3), incline_deg=3.0, impratio=10.0),
+    robot_controller=True,
+)
+"""§5.2.2-5.2.3: uneven cobblestones with a 3 degree incline, friction varying between spots (1.0-1.3, assumed: rough
+stones, wet or dry), otherwise as the office. The contact solver runs at impratio 10 on the stones: at the model's 100
+MJX blows up there (8 in 8000 random JT-NF steps, none on flat ground; a first JT-OEF run over and over), at 30 and
+below it did not (docs/real-world/cobblestone_stability.json)."""
+
+CONDITIONS = {c.name: c for c in (SIM, OFFICE, OUTDOOR)}
+
+MIN_FRICTION = 1.0
+"""Below this floor friction MJX's contact solver blows up on the HB40 with its model's impratio of 100 (non-finite
+states: 269, 79, 23, 5 and 2 in 3200 random steps at 0.5, 0.6, 0.7, 0.8 and 0.9; none from 1.0, and none at any
+friction with impratio 1; docs/real-world/friction_stability.json)."""
+
+
+def check_friction(ground: Ground, impratio: float) -> None:
+    """ValueError for a floor friction the solver cannot hold with a robot of this impratio, before anything compiles."""
+    if impratio > 1.0 and ground.friction[0] < MIN_FRICTION:
+        raise ValueError(f"ground friction {ground.friction[0]:g} is below {MIN_FRICTION:g}, where MJX's contact solver "
+                         f"blows up with the robot's impratio {impratio:g} (docs/real-world/friction_stability.json); "
+                         f"choose a friction of at least {MIN_FRICTION:g}")
+
+
+def get(name: str, changes: tuple = ()) -> Conditions:
+    """The conditions called `name` with `changes` ((field, value), ...); ValueError naming the choices."""
+    if name not in CONDITIONS:
+        raise ValueError(f"unknown conditions {name!r}; choose from {', '.join(CONDITIONS)}")
+    return CONDITIONS[name].replace(**dict(changes)) if changes else CONDITIONS[name]

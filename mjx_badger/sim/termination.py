@@ -1,0 +1,69 @@
+"""When an HB40 episode ends: the protocols' fall rules, the robot's own safety stop, and its time limit.
+
+The terminating half of HB40Env: a fall is judged on a finite state only (a physics blow-up ends the
+episode too, but is counted in `blowups`, not as a fall); under on-robot conditions the robot's own
+stop replaces the protocol's rule.
+"""
+
+import jax.numpy as jnp
+import numpy as np
+
+from mjx_badger.robot import safety, terrain
+from mjx_badger.sim.observation import roll_pitch
+
+# thesis-text termination (our reading): the robot's own fall rule (RobotSpec.fall_tilt_rad, fall_height).
+# thesis-code termination (docs/thesis-code.md §6).
+CODE_FALL_TILT_RAD = np.deg2rad(30.0)
+CODE_FALL_ANGULAR_SPEED = 4.0
+CODE_POWER_LIMIT_W = 1500.0
+CODE_POWER_STEPS = 3
+# The released robot env's monitor damps the motors at this roll or pitch (docs/thesis-code.md §12).
+ROBOT_COLLAPSE_RAD = 1.5
+
+
+class Terminating:
+    """HB40Env's termination: the protocol's fall rule or the robot's safety stop, and the episode's time limit."""
+
+    def _power_steps(self, info: dict, data, torque):
+        """Consecutive steps the motors' power has been past the released code's limit (its fall rule counts them)."""
+        return jnp.where(jnp.sum(jnp.abs(torque * data.qvel[6:])) > CODE_POWER_LIMIT_W, info["power_steps"] + 1, 0)
+
+    def _terminate(self, info: dict, data, motion, senses: dict, power_steps, finite):
+        """(fallen, terminated, truncated): the fall rule on a finite state (a blow-up is counted in `blowups`, not
+        as a (would-be) fall), whether the episode ends on it or a blow-up, and whether its time is up."""
+        if self.conditions.safety_stop:  # the robot's own stop on its own readings, in place of the protocol's rule
+            fallen = self._safety_stop(senses["reading"] if senses else None, data) & finite
+            terminated = fallen | ~finite
+        else:
+            fallen = self._fall_rule(data, motion, power_steps) & finite
+            terminated = (fallen if self.terminates else jnp.bool_(False)) | ~finite
+        truncated = (info["step"] + 1 >= self.episode_steps) & ~terminated
+        return fallen, terminated, truncated
+
+    def _safety_stop(self, reading, data):
+        """Whether the robot stops itself: under thesis-code the released robot env's rule (its heading pitched 30 deg
+        or more, or turning faster than 4 rad/s, or the monitor's collapse at 1.5 rad of roll or pitch), under
+        thesis-text the on-robot loop's monitor (a tilt past the fall tilt or a joint out of range, §5.2)."""
+        rotation = reading.rotation if reading is not None else data.xmat[self._trunk]
+        angle = reading.joint_angle if reading is not None else data.qpos[7:]
+        if self.protocol.termination != "thesis-code":
+            return safety.trips(rotation, angle, self.spec, jnp)
+        gyro = reading.angular_velocity if reading is not None else data.sensordata[self._gyro]
+        roll, pitch = roll_pitch(rotation)
+        heading_pitch = jnp.arcsin(jnp.clip(rotation[2, 0], -1.0, 1.0))
+        return ((jnp.abs(heading_pitch) >= CODE_FALL_TILT_RAD) | (jnp.linalg.norm(gyro) > CODE_FALL_ANGULAR_SPEED)
+                | (jnp.abs(roll) >= ROBOT_COLLAPSE_RAD) | (jnp.abs(pitch) >= ROBOT_COLLAPSE_RAD))
+
+    def _fall_rule(self, data, motion, power_steps):
+        """Whether the protocol's termination rule fires on this step."""
+        rot = data.xmat[self._trunk]
+        floor = terrain.height_at(self.ground, data.qpos[0]) if self.ground.incline_deg else 0.0
+        if self.protocol.termination == "tilt-height":
+            tilt = self.spec.fall_tilt_rad
+            return ((jnp.abs(motion.roll) > tilt) | (jnp.abs(motion.pitch) > tilt)
+                    | (data.qpos[2] - floor < self.spec.fall_height))
+        # The trunk box's lowest corner at the floor: the trunk-floor contact (a box on a plane).
+        trunk_bottom = data.xpos[self._trunk, 2] - floor - jnp.sum(jnp.abs(rot[2]) * self._trunk_half)
+        return ((jnp.abs(motion.roll) >= CODE_FALL_TILT_RAD) | (jnp.abs(motion.pitch) >= CODE_FALL_TILT_RAD)
+                | (jnp.linalg.norm(data.qvel[3:6]) > CODE_FALL_ANGULAR_SPEED) | (trunk_bottom <= 0.0)
+                | (power_steps >= CODE_POWER_STEPS))

@@ -1,0 +1,28 @@
+"""SIGINT and SIGTERM inside `graceful`: the first is noted for the chunk at hand to finish, the handlers come back."""
+
+import os
+import signal
+
+import pytest
+
+from mjx_badger.core import stops
+
+
+def test_a_signal_inside_the_block_is_noted_and_the_handlers_are_restored_after():
+    before = signal.getsignal(signal.SIGTERM)
+    with stops.graceful():
+        assert stops.requested() is None
+        os.kill(os.getpid(), signal.SIGTERM)  # delivered to the main thread before the next bytecode
+        assert stops.requested() == signal.SIGTERM
+        with stops.graceful():  # a nested block shares the outer one's note
+            assert stops.requested() == signal.SIGTERM
+    assert stops.requested() is None and signal.getsignal(signal.SIGTERM) is before
+
+
+def test_a_second_signal_stops_at_once_and_the_exit_code_is_the_shells():
+    with stops.graceful():
+        os.kill(os.getpid(), signal.SIGINT)
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+    stopped = stops.Interrupted(signal.SIGTERM, "stopped")
+    assert stopped.code == 128 + 15 and stops.name(signal.SIGINT) == "SIGINT"

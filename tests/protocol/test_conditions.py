@@ -1,0 +1,51 @@
+"""On-robot conditions: each field, when set, is applied; a ground MJX cannot collide is refused before compiling."""
+
+import dataclasses
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from mjx_badger.learning.config import TrainConfig
+from mjx_badger.protocol import conditions
+from mjx_badger.robot import description as robot
+from mjx_badger.sim.env import EnvConfig, HB40Env
+
+
+def test_friction_is_drawn_per_episode_within_its_range_and_reaches_the_physics():
+    env = HB40Env("jt-oef", "forward", EnvConfig(conditions=conditions.OUTDOOR))
+    low, high = conditions.OUTDOOR.ground.friction
+    frictions = [float(jax.jit(env.reset)(jax.random.PRNGKey(k)).info["friction"]) for k in range(6)]
+    assert len(set(frictions)) == 6 and all(low <= f <= high for f in frictions)
+    info = {"friction": jnp.float32(frictions[0])}
+    np.testing.assert_allclose(env._ground_model(info).pair_friction[:, :2], frictions[0], rtol=1e-6)
+    assert not HB40Env("jt-oef", "forward")._varies_friction  # sim: the model's own friction, nothing drawn
+
+
+def test_unknown_conditions_fields_and_estimators_are_refused_naming_the_choices():
+    with pytest.raises(ValueError, match="unknown conditions 'moon'; choose from sim, office, outdoor"):
+        TrainConfig(conditions="moon")
+    with pytest.raises(ValueError, match="unknown condition fields ground.inclin"):
+        TrainConfig(conditions="outdoor", condition_changes=(("ground.inclin", 0.0),))
+    with pytest.raises(ValueError, match="unknown estimator 'ekf'"):
+        TrainConfig(conditions="office", condition_changes=(("sensing", "ekf"),))
+
+
+def test_on_the_robot_jt_runs_on_its_own_controller_and_episodes_last_20_s():
+    sim, office = TrainConfig(approach="jt-oef"), TrainConfig(approach="jt-oef", conditions="office")
+    assert (sim.env_config.control_hz, sim.protocol_spec.jt_pd_gains) == (50.0, (25.0, 1.0))
+    assert (office.env_config.control_hz, office.protocol_spec.jt_pd_gains) == (40.0, robot.HB40.pd_gains)
+    assert TrainConfig(approach="jt-lpf", algo="sac-utd20", conditions="office").env_config.control_hz == 20.0
+    assert office.protocol_spec.episode_seconds == 20.0 and sim.protocol_spec.episode_seconds == 10.0
+    assert dataclasses.replace(office, conditions="sim").env_config.conditions is None
+
+
+def test_a_floor_too_slippery_for_the_solver_is_refused_before_compiling():
+    with pytest.raises(ValueError, match="ground friction 0.7 is below 1, where MJX's contact solver blows up"):
+        TrainConfig(conditions="office", condition_changes=(("ground.friction", 0.7),))
+    TrainConfig(conditions="office", condition_changes=(("ground.friction", 1.2),))  # above the floor: fine
+    # With a ground whose solver runs at impratio 1 the check has nothing to guard.
+    TrainConfig(conditions="office", condition_changes=(("ground.friction", 0.7), ("ground.impratio", 1.0)))
+
+

@@ -1,0 +1,48 @@
+"""tools/profile_time.py reads a pause log: which SIGSTOPs a run's clock counted."""
+
+import importlib.util
+from pathlib import Path
+
+spec = importlib.util.spec_from_file_location("profile_time", Path(__file__).parents[2] / "tools" / "profile_time.py")
+profile_time = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(profile_time)
+
+LOG = """\
+2026-12-03T10:00:00+00:00 START attempt 1
+2026-12-03T10:10:00+00:00 STOP (all background training) a benchmark (pids 1
+2)
+2026-12-03T10:15:00+00:00 CONT (all background training) done (pids 1
+2)
+2026-12-03T10:20:00+00:00 START real group, beside the full profile
+2026-12-03T10:30:00+00:00 STOP (all background training) make test (pids 1 2)
+2026-12-03T10:40:00+00:00 CONT real group only (pid 2); the full profile stays paused
+2026-12-03T11:00:00+00:00 STOP (all background training) while the runs' process is gone (pids 2)
+2026-12-03T11:05:00+00:00 CONT (all background training) done (pids 2)
+2026-12-03T11:10:00+00:00 START attempt 1
+2026-12-03T11:20:00+00:00 STOP (all background training) profile (pids 3)
+2026-12-03T11:22:00+00:00 CONT (all background training) done (pids 3)
+2026-12-03T11:30:00+00:00 session ended
+""".splitlines()
+
+
+def at(clock: str) -> float:
+    return profile_time.seconds(f"2026-12-03T{clock}:00+00:00")
+
+
+def test_only_pauses_that_a_cont_of_the_runs_process_ended_count():
+    # The 10:30 stop was never continued (the process was killed while stopped); 11:00 paused another process.
+    assert profile_time.pause_intervals(LOG) == [(at("10:10"), at("10:15")), (at("11:20"), at("11:22"))]
+
+
+def test_a_run_is_charged_the_paused_part_of_its_span_and_knows_its_attempts():
+    pauses, starts = profile_time.pause_intervals(LOG), profile_time.attempt_starts(LOG)
+    assert profile_time.paused_seconds(pauses, at("10:12"), at("11:21")) == 3 * 60 + 60
+    assert starts == [at("10:00"), at("11:10")]
+    document = {"complete": True, "seeds": [0, 1], "steps": [1000],
+                "wall_clock": {"started": "2026-12-03T10:00:00+00:00", "updated": "2026-12-03T10:50:00+00:00",
+                               "compile_s": 60.0, "run_s": 2000.0, "checkpoint_s": 40.0}}
+    cost = profile_time.run_cost(document, None, pauses, starts)
+    assert (cost["wall_s"], cost["cost_s"], cost["paused_s"], cost["cost_s_less_pauses"]) == (3000, 2100, 300, 1800)
+    document["wall_clock"]["updated"] = "2026-12-03T11:25:00+00:00"  # resumed by the 11:10 attempt
+    cost = profile_time.run_cost(document, None, pauses, starts)
+    assert cost["paused_s"] == 420 and cost["cost_s_less_pauses"] is None
