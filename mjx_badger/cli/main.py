@@ -1,5 +1,5 @@
-"""Command line: `python -m mjx_badger {train,sweep,reproduce,figures,claims,publish,attribute,realtime,evaluate,render,
-estimator,list}`.
+"""Command line: `python -m mjx_badger {train,sweep,reproduce,figures,claims,publish,attribute,realtime,robot-server,
+link-keys,evaluate,render,export,estimator,list}`.
 
 tyro builds every option from the command classes (one module per group of commands) and the run specs
 they hold (TrainConfig, RealtimeConfig), so each option is declared once, its docstring its help.
@@ -20,8 +20,8 @@ from mjx_badger.agents.config import ALGORITHMS
 from mjx_badger.cli.common import DESCRIPTION
 from mjx_badger.cli.estimator import Estimator
 from mjx_badger.cli.experiments import Attribute, Claims, Figures, Publish, Reproduce
-from mjx_badger.cli.robot import Realtime
-from mjx_badger.cli.saved_runs import Evaluate, Render
+from mjx_badger.cli.robot import LinkKeys, Realtime, RobotServer
+from mjx_badger.cli.saved_runs import Evaluate, Export, Render
 from mjx_badger.cli.training import Sweep, Train
 from mjx_badger.control.actions import APPROACHES
 from mjx_badger.core import faults
@@ -58,7 +58,8 @@ class List:
 
 
 COMMANDS = {"train": Train, "sweep": Sweep, "reproduce": Reproduce, "figures": Figures, "claims": Claims,
-            "publish": Publish, "attribute": Attribute, "realtime": Realtime, "evaluate": Evaluate, "render": Render,
+            "publish": Publish, "attribute": Attribute, "realtime": Realtime, "robot-server": RobotServer,
+            "link-keys": LinkKeys, "evaluate": Evaluate, "render": Render, "export": Export,
             "estimator": Estimator, "list": List}
 
 

@@ -1,4 +1,4 @@
-"""`evaluate` and `render`: a training run's saved policy, one seed of it, under one command on native MuJoCo."""
+"""`evaluate`, `render` and `export`: a training run's saved policy, one seed of it, under one command on native MuJoCo."""
 
 import dataclasses
 import json
@@ -10,7 +10,7 @@ import tyro
 from mjx_badger.core import safe_io
 from mjx_badger.core.validation import writable_file
 from mjx_badger.learning import saved_run
-from mjx_badger.outputs import videos
+from mjx_badger.outputs import onnx_export, videos
 from mjx_badger.robot import mjcf
 from mjx_badger.sim.render import check_gl
 
@@ -83,3 +83,32 @@ class Render(SavedRun):
         print(f"wrote {self.out} ({report['frames']} frames; {report['velocity_along_command']:.2f} m/s along "
               f"the command, {report['falls']} falls)")
         return 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Export:
+    """A run's saved policy as ONNX for the robot's computer (no JAX there): the actor, its settings beside it, and
+    its check against the JAX policy on 1,000 observations."""
+
+    results: tyro.conf.Positional[Path]
+    """A training run's results file; its saved policy lies beside it."""
+    seed: Optional[int] = None
+    """Which seed's policy (default: the first the saved policy holds)."""
+    out: Path = Path("policy.onnx")
+    """The ONNX file; its settings go beside it as <stem>.onboard.json."""
+
+    def check(self) -> None:
+        if self.out.suffix != ".onnx":
+            raise ValueError(f"--out {self.out.name}: the exported policy's file ends in .onnx")
+        writable_file(self.out, "--out")
+        _, config, _ = onnx_export.saved(self.results, self.seed)
+        refusal = onnx_export.refusal(config)
+        if refusal:
+            raise ValueError(refusal)
+
+    def __call__(self) -> int:
+        onnx_export.export(self.results, self.seed, self.out)
+        difference = onnx_export.check(self.results, self.seed, self.out)
+        print(f"wrote {self.out} and {self.out.with_suffix('.onboard.json').name}; onnxruntime vs JAX on 1,000 "
+              f"observations: max difference {difference:.1e} (limit {onnx_export.MAX_DIFFERENCE:.0e})")
+        return 0 if difference <= onnx_export.MAX_DIFFERENCE else 1

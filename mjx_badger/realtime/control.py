@@ -18,8 +18,9 @@ from mjx_badger.realtime import report, safety, scheduling
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
 from mjx_badger.realtime.host_replay import HostReplay
-from mjx_badger.realtime.interface import Robot, Sensors, rotation_matrix
+from mjx_badger.realtime.interface import LinkLost, Robot, Sensors, rotation_matrix
 from mjx_badger.realtime.learner import Learner
+from mjx_badger.realtime.operator import Operator
 from mjx_badger.realtime.view import View
 from mjx_badger.sim.env import EnvConfig, HB40Env
 from mjx_badger.sim.observation import roll_pitch
@@ -124,6 +125,9 @@ class Progress:
         self.episodes = 0
         self.train_seconds = 0.0
         self.reset_seconds = 0.0
+        self.gaps = 0
+        """Episodes the link ended (no reply in time, or the robot damped itself on its watchdog or rule)."""
+        self.gap_seconds = 0.0
         self.rows: list[dict] = []
         # One TRACE row per step, preallocated: a growing list of tuples would be more objects for
         # every garbage collection pass to walk while the robot waits.
@@ -150,6 +154,7 @@ class Session:
     """report.timing_log's record, appended to every tick."""
     view: View
     stop: threading.Event
+    operator: Operator
 
 
 def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
@@ -158,9 +163,11 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
     Every control period: read the sensors, estimate the trunk velocity, observe and score the last
     action, check safety, act and send the joint targets, store the transition, sleep to the deadline.
     A safety trip damps the motors first, ends the episode, counts a fall and waits for the (manual)
-    reset, which is not training time.
+    reset, which is not training time. A lost link (LinkLost) ends the episode where it is: the step whose
+    outcome was not seen is not stored, and the wait for the robot is neither training nor reset time.
+    The operator's pause or collapse ends it at the next period.
     """
-    config, bot, progress, timing = session.config, session.bot, session.progress, session.timing
+    config, bot, progress = session.config, session.bot, session.progress
     period = 1.0 / config.hz
     episode_steps = int(round(config.episode_seconds * config.hz))
     if fresh:
@@ -168,12 +175,63 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
         action_state = session.env.action_space.init()
     else:
         action_state = progress.action_state
+    at = {"task_state": task_state, "key": key, "action_state": action_state, "since": time.perf_counter()}
+    lost = trip = None
+    try:
+        trip = _ticks(session, command, at, episode_steps, period)
+    except LinkLost as error:
+        lost = error
+    task_state, key, action_state = at["task_state"], at["key"], at["action_state"]
+    # A lost link's gap began when its unanswered request went out: that wait is not training time either.
+    ended = max(getattr(lost, "since", time.perf_counter()), at["since"])
+    progress.train_seconds += ended - at["since"]
+    progress.episodes += 1
+    if lost is not None:
+        progress.gaps += 1
+        session.view.note(f"step {progress.step}: link lost ({lost}); waiting for the robot")
+        pause = ended
+        wait_for_robot(session)
+        progress.gap_seconds += time.perf_counter() - pause
+        trip = True  # a fresh episode follows, as after a fall
+    elif trip:
+        progress.falls += 1
+        session.view.note(f"step {progress.step}: safety stop ({trip}), fall {progress.falls}; waiting for the reset")
+        pause = time.perf_counter()
+        if session.operator.operator_resets:
+            session.operator.become("waiting_reset")
+            while session.operator.wait_while(("waiting_reset",), 0.2) == "waiting_reset" and not session.stop.is_set():
+                session.view.show()
+        if session.operator.state == "learning":
+            bot.reset()
+        progress.reset_seconds += time.perf_counter() - pause
+    progress.task_state, progress.key, progress.action_state = task_state, key, action_state
+    return bool(trip)
+
+
+def wait_for_robot(session: Session) -> None:
+    """After a lost link: until the robot answers and stands again (or the run is stopped)."""
+    bot = session.bot
+    while not session.stop.is_set():
+        reachable = getattr(bot, "reachable", None)
+        if reachable is None or reachable():
+            try:
+                bot.reset()
+                return
+            except LinkLost:
+                pass
+        time.sleep(0.2)
+
+
+def _ticks(session: Session, command, at: dict, episode_steps: int, period: float):
+    """The control periods of one episode, keeping `at` (task state, key, action state, since) current;
+    the safety trip that ended it, or None."""
+    config, bot, progress, timing = session.config, session.bot, session.progress, session.timing
+    task_state, key, action_state = at["task_state"], at["key"], at["action_state"]
     prev_gyro = bot.read().angular_velocity
     previous = None  # (obs, action) of the last step, waiting for its outcome
     stance = None
     last_start = None
     deadline = time.perf_counter()
-    episode_start = deadline
     for episode_step in range(episode_steps + 1):
         start = time.perf_counter()
         if last_start is not None:
@@ -192,9 +250,11 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
         out = session.tick(session.learner.state, action_state, task_state, command,
                            measured_step(sensors, prev_gyro, velocity), step_key, explore)
         obs, reward, task_state, action, next_action_state, target, stance_out = out
+        at["task_state"], at["key"] = task_state, key
         trip = safety.check(sensors, session.env.spec)
         stepping = previous is not None
-        last = episode_step == episode_steps or progress.step + stepping >= config.steps or session.stop.is_set()
+        last = (episode_step == episode_steps or progress.step + stepping >= config.steps or session.stop.is_set()
+                or session.operator.state != "learning")
         if trip:
             bot.damp()
         elif not last:
@@ -206,17 +266,17 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
             session.learner.new_step.set()
             truth = true_velocity(bot)
             progress.trace[progress.step - 1] = (progress.step, progress.train_seconds + time.perf_counter()
-                                                 - episode_start, velocity[0], velocity[1], truth[0], truth[1],
+                                                 - at["since"], velocity[0], velocity[1], truth[0], truth[1],
                                                  reward, bool(trip))
             if progress.step % report.LOG_EVERY_STEPS == 0:
-                progress.train_seconds += time.perf_counter() - episode_start
-                episode_start = time.perf_counter()
+                progress.train_seconds += time.perf_counter() - at["since"]
+                at["since"] = time.perf_counter()
                 progress.rows.append(report.row(progress, session.learner.updates))
             session.view.show()
         if trip or last:
-            break
+            return trip
         previous = (obs, np.asarray(action))
-        action_state = next_action_state
+        action_state = at["action_state"] = next_action_state
         stance = np.asarray(stance_out)
         prev_gyro = sensors.angular_velocity
         deadline += period
@@ -224,16 +284,7 @@ def episode(session: Session, task_state, command, key, fresh: bool) -> bool:
         if not scheduling.sleep_until(deadline):
             timing["late"] += 1  # the work of this period overran the next tick's start
             deadline = time.perf_counter()
-    progress.train_seconds += time.perf_counter() - episode_start
-    progress.episodes += 1
-    if trip:
-        progress.falls += 1
-        session.view.note(f"step {progress.step}: safety stop ({trip}), fall {progress.falls}; waiting for the reset")
-        pause = time.perf_counter()
-        bot.reset()
-        progress.reset_seconds += time.perf_counter() - pause
-    progress.task_state, progress.key, progress.action_state = task_state, key, action_state
-    return bool(trip)
+    return None
 
 
 def evaluate(session: Session, evaluate_tick, agent_state, task, key) -> dict:

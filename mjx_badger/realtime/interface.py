@@ -34,6 +34,10 @@ class Sensors:
     """(4,) IMU orientation, quaternion w, x, y, z, trunk to world."""
 
 
+class LinkLost(RuntimeError):
+    """The robot cannot be reached, or damped itself (its watchdog or safety rule): the episode ends here."""
+
+
 class Robot(Protocol):
     """A robot the loop can train on; an adapter that subclasses it inherits `truth`'s None."""
 
@@ -45,6 +49,10 @@ class Robot(Protocol):
 
     def command(self, targets: np.ndarray, kp: float, kd: float) -> None:
         """Send 12 joint targets (rad) for the motors' PD controllers with gains kp, kd."""
+
+    def hold(self) -> None:
+        """Hold the nominal pose with the robot's own controller, no commands needed (pause, standing)."""
+        self.command(robot.nominal_pose(robot.HB40), *robot.HB40.pd_gains)
 
     def damp(self) -> None:
         """Safety mode: Kp 0, Kd 3 on every joint, the robot sinks down slowly."""

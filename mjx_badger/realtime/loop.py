@@ -10,43 +10,40 @@ from pathlib import Path
 import jax
 
 from mjx_badger.core import locks
-from mjx_badger.realtime import adapters, control, figure, pretrained, report, scheduling, session_checkpoint
+from mjx_badger.realtime import control, pretrained, report, scheduling, session_checkpoint
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.control import Progress, build
 from mjx_badger.realtime.estimation import KalmanConfig, VelocityEstimator, estimator_name
 from mjx_badger.realtime.host_replay import HostReplay
-from mjx_badger.realtime.interface import Robot
+from mjx_badger.realtime.interface import LinkLost, Robot
 from mjx_badger.realtime.learner import Learner, replay_ratio_cap
-from mjx_badger.realtime.report import load_trace
+from mjx_badger.realtime.operating import Between
+from mjx_badger.realtime.operator import Operator
 from mjx_badger.realtime.view import View, say
 from mjx_badger.records import results
 
 
 def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realtime"), resume: bool = True,
-        view: bool = True, kalman: KalmanConfig = KalmanConfig(), lock_memory: bool = True) -> dict:
+        view: bool = True, kalman: KalmanConfig = KalmanConfig(), lock_memory: bool = True,
+        operator: Operator | None = None, test_policy=None, checkpoint_every_s: float = 60.0) -> dict:
     """Train on `bot` for `config.steps` control steps (or until Ctrl-C); returns the results document.
 
     The learner updates the agent concurrently, at most `config.utd` times per learning step.
     Ctrl-C or SIGTERM damps the robot, then saves policy, optimiser state and replay buffer; the next
     run with the same settings resumes from them. `lock_memory=False` leaves the pages to the kernel
     (to measure what locking them buys). A second run into the same results file is refused (locks.py).
+    `operator` (operator.py) is the console's: without one the run learns from the start. `test_policy` is an
+    onboard.OnboardPolicy for the operator's test mode on a robot without a link. Every `checkpoint_every_s` a
+    checkpoint is written beside the run, so a killed training process resumes from it.
     """
+    operator = operator or Operator("learning")
     with locks.hold(report.document_path(out_dir, config), "this on-robot run"):
-        return _run(config, bot, out_dir, resume, view, kalman, lock_memory)
-
-
-def run_adapter(name: str, config: RealtimeConfig, out_dir: Path, reset_seconds: float = 2.0, sensor_noise: bool = True,
-                resume: bool = True, view: bool = True) -> tuple[dict, Path | None]:
-    """`run` on the robot the adapter `name` gives (adapters.py), then the run's figure: (document, figure or None)."""
-    bot = adapters.make(name, config, reset_seconds=reset_seconds, sensor_noise=sensor_noise)
-    document = run(config, bot, out_dir, resume=resume, view=view)
-    if not document["steps"]:
-        return document, None
-    return document, figure.draw(document, load_trace(out_dir, config), Path(out_dir) / f"{config.name}.png")
+        return _run(config, bot, out_dir, resume, view, kalman, lock_memory, operator, test_policy,
+                    checkpoint_every_s)
 
 
 def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: bool, kalman: KalmanConfig,
-         lock_memory: bool) -> dict:
+         lock_memory: bool, operator: Operator, test_policy, checkpoint_every_s: float) -> dict:
     env, task, agent, tick, evaluate_tick, update = build(config)
     out_dir = Path(out_dir)
     saved = session_checkpoint.path(out_dir, config)
@@ -83,20 +80,34 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
         timing = report.timing_log(realtime, locked, scheduling.major_page_faults())
         previous_handlers = {signum: signal.signal(signum, lambda *_: stop.set())
                              for signum in (signal.SIGINT, signal.SIGTERM)} if _main_thread() else {}
-        bot.start()
+        between = Between(started=operator.state == "learning", test_policy=test_policy)
+        if between.started:
+            bot.start()
         learner.start()
         scheduling.nice_compute_threads()
         session = control.Session(config, bot, env, tick, learner, buffer, progress, VelocityEstimator(kalman, env.spec, estimator_name(config)),
-                                  timing, View(view, config, progress, learner, timing), stop)
+                                  timing, View(view, config, progress, learner, timing, operator, bot), stop, operator)
+        saved_at, saving = time.perf_counter(), None
         try:
             fresh = True
             while progress.step < config.steps and not stop.is_set():
+                if operator.state != "learning":
+                    between.handle(session, operator.state)
+                    fresh = True
+                    continue
+                between.entering_learning(session)
                 key, command_key = jax.random.split(key)
                 task_state, command = task.command(task_state, command_key)
                 fresh = control.episode(session, task_state, command, key, fresh)
                 task_state, key = progress.task_state, progress.key
+                if time.perf_counter() - saved_at > checkpoint_every_s:
+                    saving = session_checkpoint.save_beside(saved, config, learner.state, task_state, key, learner.updates,
+                                                   buffer, progress)
+                    saved_at = time.perf_counter()
         finally:
             bot.damp()  # safety first: motors soft before anything is saved
+            between.stop_driving(bot)
+            operator.become("finished")
             learner.stop()
             timing["major_page_faults"] = scheduling.major_page_faults() - timing["major_page_faults"]
             gc.unfreeze()
@@ -107,8 +118,13 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
             complete = progress.step >= config.steps
             evaluation = control.evaluate(session, evaluate_tick, learner.state, task, key) if (
                 complete and config.eval_seconds > 0) else None
+        except LinkLost as error:  # the results and checkpoint are saved all the same
+            say(view, f"no evaluation run: {error}")
+            evaluation = None
         finally:
             bot.stop()
+    if saving is not None:
+        saving.join()  # one writer of the checkpoint folder at a time
     session_checkpoint.save(saved, config, learner.state, task_state, key, learner.updates, buffer, progress)
     document = report.document(config, progress, timing, learner.updates, compile_s, started, complete, evaluation)
     report.save(out_dir, config, document, progress)

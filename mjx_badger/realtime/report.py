@@ -6,7 +6,9 @@ Schema `mjx_badger.realtime/1`, the document `loop.run` writes to <out>/<approac
     complete                   whether all config.steps were taken (false after Ctrl-C; the next run resumes)
     steps                      transitions stored, over this session and those it resumed
     falls                      safety trips, each of which damped the motors and ended its episode
-    episodes                   episodes ended, by a safety trip or the time limit
+    episodes                   episodes ended, by a safety trip, the time limit, the operator or a lost link
+    link_gaps                  episodes a lost link ended (no reply in time, or the robot damped itself)
+    gap_minutes                wall-clock minutes spent waiting for the robot after them (not training time)
     train_minutes              wall-clock minutes of control, the operator's resets excluded
     minutes_with_resets        the same with the resets
     updates                    learner updates
@@ -102,6 +104,8 @@ def document(config, progress, timing, updates, compile_s, started, complete, ev
         "steps": progress.step,
         "falls": progress.falls,
         "episodes": progress.episodes,
+        "link_gaps": progress.gaps,
+        "gap_minutes": progress.gap_seconds / 60,
         "train_minutes": progress.train_seconds / 60,
         "minutes_with_resets": (progress.train_seconds + progress.reset_seconds) / 60,
         "updates": updates,

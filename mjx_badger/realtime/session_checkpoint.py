@@ -1,6 +1,8 @@
 """The on-robot checkpoint: policy, optimiser state, replay buffer and counters, so a stopped run resumes."""
 
 import json
+import threading
+import types
 from pathlib import Path
 
 import flax.serialization
@@ -8,7 +10,7 @@ import numpy as np
 
 from mjx_badger.core import safe_io
 
-COUNTERS = ("step", "falls", "episodes", "train_seconds", "reset_seconds", "rows")
+COUNTERS = ("step", "falls", "episodes", "train_seconds", "reset_seconds", "gaps", "gap_seconds", "rows")
 """The run's progress counters the checkpoint keeps (progress.json, beside the settings and updates)."""
 
 
@@ -41,6 +43,17 @@ def save(checkpoint: Path, config, agent_state, task_state, key, updates, buffer
     safe_io.replace_folder(checkpoint, fill)
 
 
+def save_beside(checkpoint: Path, config, agent_state, task_state, key, updates, buffer, progress) -> threading.Thread:
+    """`save` in a thread of its own from copies taken now, so a run killed later resumes from here while the
+    robot walks on (the copies take milliseconds; writing them would take a control period or more)."""
+    counters = {name: getattr(progress, name) for name in COUNTERS}
+    frozen = types.SimpleNamespace(**dict(counters, rows=list(progress.rows)), trace=progress.trace[:progress.step].copy())
+    thread = threading.Thread(target=save, name="checkpoint", daemon=True,
+                              args=(checkpoint, config, agent_state, task_state, key, updates, buffer.copy(), frozen))
+    thread.start()
+    return thread
+
+
 def load(checkpoint: Path, config, agent_state, task_state, key, buffer, progress):
     """Restore the buffer and `progress` in place; returns the agent state, task state, key and update count.
 
@@ -63,7 +76,7 @@ def load(checkpoint: Path, config, agent_state, task_state, key, buffer, progres
             raise ValueError(f"trace.npy holds {done.shape}, not {counters['step']} steps")
         buffer.load(checkpoint / "replay.npz")
         for name in COUNTERS:
-            setattr(progress, name, counters[name])
+            setattr(progress, name, counters.get(name, 0) if name in ("gaps", "gap_seconds") else counters[name])
     except Exception as error:  # cut short or edited: msgpack, zip, shape or key errors, whichever came first
         raise ValueError(f"{checkpoint} is damaged ({type(error).__name__}: {error}); start over with --restart") from None
     progress.trace[:len(done)] = done

@@ -67,6 +67,9 @@ class SimulatedHB40(Robot):
             self._targets = np.asarray(targets, dtype=np.float64).copy()
             self._gains = (float(kp), float(kd))
 
+    def hold(self) -> None:
+        self.command(robot.nominal_pose(self.spec), *self.spec.pd_gains)
+
     def damp(self) -> None:
         with self._lock:
             self._gains = self.spec.damping_gains

@@ -3,6 +3,8 @@
 import dataclasses
 import os
 import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -11,7 +13,10 @@ from mjx_badger.agents.config import ALGORITHMS
 from mjx_badger.realtime import figure as realtime_figure
 from mjx_badger.realtime import scheduling
 from mjx_badger.realtime.config import RealtimeConfig
+from mjx_badger.realtime.linked_robot import LinkedRobot
 from mjx_badger.realtime.loop import run
+from mjx_badger.realtime.operator import Operator
+from mjx_badger.realtime.robot_server import RobotServer
 from mjx_badger.realtime.simulated import SimulatedHB40
 from mjx_badger.robot import description as robot
 from tests.realtime.test_scheduling import granted_in_a_thread
@@ -120,3 +125,79 @@ def test_stop_and_resume_keep_the_replay_buffer_and_step_count(tmp_path, signum)
     assert not (tmp_path / f"{config.name}.json.lock").exists()
 
 
+
+
+class Stalling(RobotServer):
+    """A robot server that stops answering for `stall_s` at its `at`-th command, as a cable pulled and put back."""
+
+    def __init__(self, *args, at=30, stall_s=1.0, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.at, self.stall_s, self.commands = at, stall_s, 0
+
+    def _command(self, message):
+        self.commands += 1
+        if self.commands == self.at:
+            time.sleep(self.stall_s)
+        return super()._command(message)
+
+
+def test_the_same_loop_runs_over_the_link_and_a_stall_is_neither_training_time_nor_a_transition(tmp_path):
+    config = dataclasses.replace(TINY, steps=80, eval_seconds=0.0)
+    server = Stalling(SimulatedHB40(reset_seconds=0.1), address="tcp://127.0.0.1:0", watchdog_s=0.1)
+    serving = threading.Thread(target=server.serve, daemon=True)
+    serving.start()
+    try:
+        document = run(config, LinkedRobot(server.address, timeout_s=0.1), tmp_path, resume=False, view=False)
+    finally:
+        server.halt.set()
+        serving.join()
+    assert document["complete"] and document["steps"] == config.steps
+    # The stall ended one episode; the robot damped itself on its watchdog and was stood up again.
+    assert document["link_gaps"] == 1 and server.damps >= 1
+    assert document["gap_minutes"] * 60 >= 0.8 * server.stall_s
+    # No transition spans the gap: consecutive steps are one period of training time apart, never the stall.
+    trace = np.load(tmp_path / f"{config.name}.trace.npy")
+    assert np.diff(trace[:, 1]).max() < server.stall_s / 2
+    replay = np.load(tmp_path / f"{config.name}.checkpoint" / "replay.npz")
+    assert int(replay["size"]) == config.steps
+
+
+def test_the_operator_starts_pauses_and_collapses_the_run_and_a_checkpoint_is_written_while_it_walks(tmp_path):
+    config = dataclasses.replace(TINY, steps=60, eval_seconds=0.0)
+    bot = SimulatedHB40(reset_seconds=0.1)
+    operator = Operator("idle")
+    seen = {}
+
+    def press_buttons():
+        assert operator.wait_while(("idle",), 5.0) == "idle"  # nothing moves until stand up
+        seen["idle_steps"] = operator.snapshot().get("step", 0)
+        assert operator.press("learn") is not None  # not possible while idle
+        assert operator.press("stand_up") is None and operator.press("learn") is None
+        _until(lambda: operator.snapshot().get("step", 0) >= 30)
+        assert operator.press("pause") is None
+        time.sleep(0.5)
+        seen["paused_gains"], seen["paused_at"] = bot.gains, operator.snapshot()["step"]
+        time.sleep(0.5)
+        seen["paused_later"] = operator.snapshot()["step"]
+        seen["checkpoint"] = (tmp_path / f"{config.name}.checkpoint").exists()
+        assert operator.press("collapse") is None
+        time.sleep(0.3)
+        seen["collapsed_gains"] = bot.gains
+        assert operator.press("stand_up") is None and operator.press("learn") is None
+
+    presser = threading.Thread(target=press_buttons, daemon=True)
+    presser.start()
+    document = run(config, bot, tmp_path, resume=False, view=False, operator=operator, checkpoint_every_s=0.0)
+    presser.join()
+    assert document["complete"] and seen["idle_steps"] == 0
+    assert seen["paused_gains"] == robot.HB40.pd_gains and seen["paused_later"] == seen["paused_at"]
+    assert seen["collapsed_gains"] == robot.HB40.damping_gains
+    assert seen["checkpoint"]  # written beside the run after an episode, before the run ended
+    assert operator.state == "finished"
+
+
+def _until(condition, timeout_s=120.0):
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.05)
