@@ -25,10 +25,10 @@ class Realtime:
     robot_adapter: str = "simulated"
     """The robot to train on in this process, by its adapter's name (realtime/adapters.py): 'simulated', the HB40 in
     native MuJoCo."""
-    robot: Optional[str] = None
+    link: Optional[str] = None
     """tcp://HOST:PORT of a robot server (`robot-server`) to train on over the link, instead of --robot-adapter."""
     keys: Optional[Path] = None
-    """The link's key folder (`link-keys`): required where --robot leaves this machine."""
+    """The link's key folder (`link-keys`): required where --link leaves this machine."""
     link_timeout_s: float = 0.05
     """How long a request over the link waits for its reply before the episode ends as a lost link."""
     console: bool = False
@@ -50,18 +50,21 @@ class Realtime:
     """Folder for results."""
     restart: bool = False
     """Ignore a saved checkpoint and start over."""
+    checkpoint_every_s: float = 60.0
+    """Write the session checkpoint beside the run this often (at an episode's end), so a killed run resumes."""
     quiet: bool = False
     """No live view."""
 
     @property
     def where(self) -> launch.Robot:
-        return launch.Robot(self.robot_adapter, self.robot, self.keys, self.link_timeout_s, self.reset_seconds,
+        return launch.Robot(self.robot_adapter, self.link, self.keys, self.link_timeout_s, self.reset_seconds,
                             not self.no_sensor_noise)
 
     def check(self) -> None:
         self.where.check()
         number("--reset-seconds", self.reset_seconds, 0.0, 3600.0)
         number("--link-timeout-s", self.link_timeout_s, 0.001, 10.0)
+        number("--checkpoint-every-s", self.checkpoint_every_s, 0.0, 86400.0)
         integer("--console-port", self.console_port, 0, 65535)
         try:
             ipaddress.ip_address(self.console_host)
@@ -76,7 +79,8 @@ class Realtime:
                                  self.operator_resets)
         try:
             _, figure = launch.train(self.run, self.where, console, self.out, resume=not self.restart,
-                                     view=not self.quiet, test_policy=self.test_policy)
+                                     view=not self.quiet, test_policy=self.test_policy,
+                                     checkpoint_every_s=self.checkpoint_every_s)
         except ValueError as error:  # a saved run of another configuration in the folder
             print(f"error: {error}", file=sys.stderr)
             return 2

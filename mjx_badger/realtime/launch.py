@@ -29,7 +29,7 @@ class Robot:
         adapters.check(self.adapter)
         if self.address is not None:
             if not self.address.startswith(("tcp://", "ipc://")):
-                raise ValueError(f"--robot takes tcp://HOST:PORT (or ipc://PATH), not {self.address!r}")
+                raise ValueError(f"--link takes tcp://HOST:PORT (or ipc://PATH), not {self.address!r}")
             link_keys.check(self.address, self.keys, "learner")
 
     def make(self, config: RealtimeConfig):
@@ -50,7 +50,8 @@ class Console:
 
 
 def train(config: RealtimeConfig, robot: Robot, console: Console, out_dir: Path, resume: bool = True,
-          view: bool = True, test_policy: Path | None = None) -> tuple[dict, Path | None]:
+          view: bool = True, test_policy: Path | None = None, checkpoint_every_s: float = 60.0
+          ) -> tuple[dict, Path | None]:
     """A training run on the robot, the console served beside it; (document, figure or None)."""
     bot = robot.make(config)
     operator = Operator("idle" if console.serve else "learning", operator_resets=console.operator_resets)
@@ -66,7 +67,8 @@ def train(config: RealtimeConfig, robot: Robot, console: Console, out_dir: Path,
         served = web.serve(operator, console.host, console.port, console.token)
         print(f"console: {served.url}", file=sys.stderr, flush=True)
     try:
-        document = loop.run(config, bot, out_dir, resume=resume, view=view, operator=operator, test_policy=policy)
+        document = loop.run(config, bot, out_dir, resume=resume, view=view, operator=operator, test_policy=policy,
+                            checkpoint_every_s=checkpoint_every_s)
     finally:
         if served is not None:
             served.stop()

@@ -25,7 +25,8 @@ from mjx_badger.records import results
 
 def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realtime"), resume: bool = True,
         view: bool = True, kalman: KalmanConfig = KalmanConfig(), lock_memory: bool = True,
-        operator: Operator | None = None, test_policy=None, checkpoint_every_s: float = 60.0) -> dict:
+        operator: Operator | None = None, test_policy=None, checkpoint_every_s: float = 60.0,
+        stop: threading.Event | None = None) -> dict:
     """Train on `bot` for `config.steps` control steps (or until Ctrl-C); returns the results document.
 
     The learner updates the agent concurrently, at most `config.utd` times per learning step.
@@ -34,16 +35,18 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     (to measure what locking them buys). A second run into the same results file is refused (locks.py).
     `operator` (operator.py) is the console's: without one the run learns from the start. `test_policy` is an
     onboard.OnboardPolicy for the operator's test mode on a robot without a link. Every `checkpoint_every_s` a
-    checkpoint is written beside the run, so a killed training process resumes from it.
+    checkpoint is written beside the run, so a killed training process resumes from it. Setting `stop` ends the
+    run as Ctrl-C does.
     """
     operator = operator or Operator("learning")
     with locks.hold(report.document_path(out_dir, config), "this on-robot run"):
         return _run(config, bot, out_dir, resume, view, kalman, lock_memory, operator, test_policy,
-                    checkpoint_every_s)
+                    checkpoint_every_s, stop or threading.Event())
 
 
 def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: bool, kalman: KalmanConfig,
-         lock_memory: bool, operator: Operator, test_policy, checkpoint_every_s: float) -> dict:
+         lock_memory: bool, operator: Operator, test_policy, checkpoint_every_s: float,
+         stop: threading.Event) -> dict:
     env, task, agent, tick, evaluate_tick, update = build(config)
     out_dir = Path(out_dir)
     saved = session_checkpoint.path(out_dir, config)
@@ -74,7 +77,6 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
 
     learner = Learner(update, agent_state, buffer, config.agent_config.batch_size, learner_key,
                       replay_ratio_cap(config, progress), learner_updates)
-    stop = threading.Event()
     started = results.now()
     with scheduling.control_thread(lock_memory) as (realtime, locked):
         timing = report.timing_log(realtime, locked, scheduling.major_page_faults())
