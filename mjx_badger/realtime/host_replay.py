@@ -34,15 +34,6 @@ class HostReplay:
             return Transition(self.obs[index], self.action[index], self.reward[index], self.next_obs[index],
                               self.discount[index])
 
-    def copy(self) -> "HostReplay":
-        """A copy the control thread's later adds do not touch (a checkpoint written beside the run)."""
-        with self._lock:
-            other = HostReplay.__new__(HostReplay)
-            for name in ("obs", "action", "reward", "next_obs", "discount"):
-                setattr(other, name, getattr(self, name).copy())
-            other.size, other._lock = self.size, threading.Lock()
-            return other
-
     def save(self, path: Path) -> None:
         with self._lock:
             safe_io.save_npz(path, obs=self.obs, action=self.action, reward=self.reward, next_obs=self.next_obs,

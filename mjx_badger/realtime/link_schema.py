@@ -56,7 +56,7 @@ def decode(raw: bytes) -> dict:
         raise Refused(f"a message is at most {MAX_BYTES} bytes, this one {len(raw)}")
     try:
         message = json.loads(raw.decode(), parse_constant=_no_constant)
-    except (UnicodeDecodeError, ValueError) as error:
+    except (UnicodeDecodeError, ValueError, RecursionError) as error:  # RecursionError: nested too deep
         raise Refused(f"not JSON text ({type(error).__name__}); messages are UTF-8 JSON objects") from None
     if not isinstance(message, dict):
         raise Refused("a message is a JSON object")
@@ -95,7 +95,13 @@ def number(message: dict, name: str, low: float, high: float) -> float:
 
 
 def _is_number(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
+    if not isinstance(value, (int, float)) or isinstance(value, bool):
+        return False
+    try:
+        float(value)  # an integer beyond a float's range (10**400) is no number a message may hold
+    except OverflowError:
+        return False
+    return True
 
 
 def sensors_fields(sensors) -> dict:

@@ -35,7 +35,7 @@ def run(config: RealtimeConfig, bot: Robot, out_dir: Path = Path("results/realti
     (to measure what locking them buys). A second run into the same results file is refused (locks.py).
     `operator` (operator.py) is the console's: without one the run learns from the start. `test_policy` is an
     onboard.OnboardPolicy for the operator's test mode on a robot without a link. Every `checkpoint_every_s` a
-    checkpoint is written beside the run, so a killed training process resumes from it. Setting `stop` ends the
+    checkpoint is written between episodes, so a killed training process resumes from it. Setting `stop` ends the
     run as Ctrl-C does.
     """
     operator = operator or Operator("learning")
@@ -89,7 +89,7 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
         scheduling.nice_compute_threads()
         session = control.Session(config, bot, env, tick, learner, buffer, progress, VelocityEstimator(kalman, env.spec, estimator_name(config)),
                                   timing, View(view, config, progress, learner, timing, operator, bot), stop, operator)
-        saved_at, saving = time.perf_counter(), None
+        saved_at = time.perf_counter()
         try:
             fresh = True
             while progress.step < config.steps and not stop.is_set():
@@ -103,8 +103,13 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
                 fresh = control.episode(session, task_state, command, key, fresh)
                 task_state, key = progress.task_state, progress.key
                 if time.perf_counter() - saved_at > checkpoint_every_s:
-                    saving = session_checkpoint.save_beside(saved, config, learner.state, task_state, key, learner.updates,
-                                                   buffer, progress)
+                    # Between episodes, the robot standing: a save beside a walking robot would hold the GIL for
+                    # tens of milliseconds, longer than a robot's watchdog waits for the next command.
+                    if not fresh:
+                        bot.hold()
+                        fresh = True
+                    session_checkpoint.save(saved, config, learner.state, task_state, key, learner.updates, buffer,
+                                            progress)
                     saved_at = time.perf_counter()
         finally:
             bot.damp()  # safety first: motors soft before anything is saved
@@ -125,10 +130,9 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
             evaluation = None
         finally:
             bot.stop()
-    if saving is not None:
-        saving.join()  # one writer of the checkpoint folder at a time
     session_checkpoint.save(saved, config, learner.state, task_state, key, learner.updates, buffer, progress)
-    document = report.document(config, progress, timing, learner.updates, compile_s, started, complete, evaluation)
+    document = report.document(config, progress, timing, learner.updates, compile_s, started, complete, evaluation,
+                               report.link_summary(bot))
     report.save(out_dir, config, document, progress)
     say(view, f"{'finished' if complete else 'stopped'} at step {progress.step}: {report.document_path(out_dir, config)}"
               + ("" if complete else f"; run again to resume from {saved}"))

@@ -34,6 +34,8 @@ Schema `mjx_badger.realtime/1`, the document `loop.run` writes to <out>/<approac
     evaluation                 the deterministic run after training, null if incomplete or eval_seconds is 0:
                                seconds, fell (the trip or null), estimated_velocity, true_velocity (means),
                                true_peak_1s (best one-second mean of the true velocity)
+    link                       null in-process; over a link: address, requests, round_trip_p50_ms, _p99_ms, _max_ms
+                               (one request and its reply, this session), robot_damps (the robot's own damps)
     wall_clock                 started / updated (ISO 8601), compile_s
     versions                   python and package versions
     git_commit                 commit of the code that ran, "+dirty" when it had local changes
@@ -88,7 +90,7 @@ def row(progress, updates: int) -> dict:
             "reward": float(column(recent, "reward").mean()), "falls": progress.falls, "updates": updates}
 
 
-def document(config, progress, timing, updates, compile_s, started, complete, evaluation) -> dict:
+def document(config, progress, timing, updates, compile_s, started, complete, evaluation, link=None) -> dict:
     """The results document of a run (the schema above)."""
     periods = np.asarray(timing["periods"]) * 1000
     work = np.asarray(timing["work"]) * 1000
@@ -134,11 +136,23 @@ def document(config, progress, timing, updates, compile_s, started, complete, ev
         },
         "rows": progress.rows,
         "evaluation": evaluation,
+        "link": link,
         "wall_clock": {"started": started, "updated": results.now(), "compile_s": round(compile_s, 1)},
         "versions": results.versions(),
         "git_commit": results.git_commit(),
         "hardware": results.hardware(),
     }
+
+
+def link_summary(bot) -> dict | None:
+    """The link's round trips and the robot's own damps, for a robot behind a link (linked_robot.py); else None."""
+    trips = getattr(bot, "round_trips", None)
+    if trips is None:
+        return None
+    ms = np.asarray(trips) * 1000 if trips else np.full(1, np.nan)
+    return {"address": bot.address, "requests": len(trips), "round_trip_p50_ms": float(np.percentile(ms, 50)),
+            "round_trip_p99_ms": float(np.percentile(ms, 99)), "round_trip_max_ms": float(ms.max()),
+            "robot_damps": bot.robot.get("damps")}
 
 
 def _unix_time(perf_counter_time: float) -> float:

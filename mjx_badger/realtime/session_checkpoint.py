@@ -1,8 +1,6 @@
 """The on-robot checkpoint: policy, optimiser state, replay buffer and counters, so a stopped run resumes."""
 
 import json
-import threading
-import types
 from pathlib import Path
 
 import flax.serialization
@@ -41,17 +39,6 @@ def save(checkpoint: Path, config, agent_state, task_state, key, updates, buffer
         safe_io.write_text(folder / "progress.json", json.dumps(counters))
 
     safe_io.replace_folder(checkpoint, fill)
-
-
-def save_beside(checkpoint: Path, config, agent_state, task_state, key, updates, buffer, progress) -> threading.Thread:
-    """`save` in a thread of its own from copies taken now, so a run killed later resumes from here while the
-    robot walks on (the copies take milliseconds; writing them would take a control period or more)."""
-    counters = {name: getattr(progress, name) for name in COUNTERS}
-    frozen = types.SimpleNamespace(**dict(counters, rows=list(progress.rows)), trace=progress.trace[:progress.step].copy())
-    thread = threading.Thread(target=save, name="checkpoint", daemon=True,
-                              args=(checkpoint, config, agent_state, task_state, key, updates, buffer.copy(), frozen))
-    thread.start()
-    return thread
 
 
 def load(checkpoint: Path, config, agent_state, task_state, key, buffer, progress):

@@ -192,7 +192,7 @@ def test_the_operator_starts_pauses_and_collapses_the_run_and_a_checkpoint_is_wr
     assert document["complete"] and seen["idle_steps"] == 0
     assert seen["paused_gains"] == robot.HB40.pd_gains and seen["paused_later"] == seen["paused_at"]
     assert seen["collapsed_gains"] == robot.HB40.damping_gains
-    assert seen["checkpoint"]  # written beside the run after an episode, before the run ended
+    assert seen["checkpoint"]  # written between episodes, before the run ended
     assert operator.state == "finished"
 
 
