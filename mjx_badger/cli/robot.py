@@ -6,6 +6,8 @@ import sys
 from pathlib import Path
 from typing import Annotated, Optional
 
+import tyro
+
 from mjx_badger.cli.common import Flat
 from mjx_badger.core.validation import integer, number, writable_dir, writable_file
 from mjx_badger.realtime import adapters, launch, link_keys, memory
@@ -132,7 +134,8 @@ class RobotServer:
 class LinkKeys:
     """Make the link's CURVE keys into a new folder: copy it to the robot's computer and the learner's."""
 
-    folder: Path
+    folder: tyro.conf.Positional[Path]
+    """A new folder for the keys."""
 
     def check(self) -> None:
         if (Path(self.folder) / "server.key").exists():

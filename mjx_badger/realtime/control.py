@@ -18,7 +18,7 @@ from mjx_badger.realtime import report, safety, scheduling
 from mjx_badger.realtime.config import RealtimeConfig
 from mjx_badger.realtime.estimation import VelocityEstimator, leg_odometry
 from mjx_badger.realtime.host_replay import HostReplay
-from mjx_badger.realtime.interface import LinkLost, Robot, Sensors, rotation_matrix
+from mjx_badger.realtime.interface import LinkLost, Robot, RobotTripped, Sensors, rotation_matrix
 from mjx_badger.realtime.learner import Learner
 from mjx_badger.realtime.operator import Operator
 from mjx_badger.realtime.view import View
@@ -258,7 +258,10 @@ def _ticks(session: Session, command, at: dict, episode_steps: int, period: floa
         if trip:
             bot.damp()
         elif not last:
-            bot.command(np.asarray(target), *session.env.spec.pd_gains)
+            try:
+                bot.command(np.asarray(target), *session.env.spec.pd_gains)
+            except RobotTripped as tripped:  # the robot's own rule, checked between our readings, saw the fall first
+                trip = tripped.reason
         obs, reward = np.asarray(obs), float(reward)
         if stepping:
             session.buffer.add(previous[0], previous[1], reward, obs, 0.0 if trip else 1.0)

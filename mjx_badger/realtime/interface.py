@@ -38,6 +38,14 @@ class LinkLost(RuntimeError):
     """The robot cannot be reached, or damped itself (its watchdog or safety rule): the episode ends here."""
 
 
+class RobotTripped(LinkLost):
+    """The robot damped itself on its own safety rule before the loop's reading showed it: a fall, not a lost link."""
+
+    def __init__(self, reason: str):
+        super().__init__(f"the robot's own safety rule: {reason}")
+        self.reason = reason
+
+
 class Robot(Protocol):
     """A robot the loop can train on; an adapter that subclasses it inherits `truth`'s None."""
 

@@ -12,7 +12,7 @@ import numpy as np
 import zmq
 
 from mjx_badger.realtime import link_keys, link_schema
-from mjx_badger.realtime.interface import LinkLost, Robot, Sensors
+from mjx_badger.realtime.interface import LinkLost, Robot, RobotTripped, Sensors
 
 
 class LinkedRobot(Robot):
@@ -104,6 +104,9 @@ class LinkedRobot(Robot):
             del self.round_trips[:50_000]
         self.robot = reply.get("robot") if isinstance(reply.get("robot"), dict) else {}
         if reply.get("type") == "refused":
+            reason = self.robot.get("reason")
+            if self.robot.get("mode") == "damped" and isinstance(reason, str) and reason.startswith("safety:"):
+                raise RobotTripped(reason.removeprefix("safety:").strip())
             raise LinkLost(f"the robot refused {kind}: {reply.get('error')}")
         return reply
 

@@ -74,15 +74,24 @@ OPTIONS = {
     "--command": ["0.5,0,0", "0.5,0", "nan,0,0", "1,2,inf", "a,b,c"],
     "--engine": ["native", "mjx", "gpu"],
     "--init-from": [str(WITH_POLICY), "missing.json", "file"],
+    "--link": ["tcp://127.0.0.1:5555", "tcp://10.0.0.1:5555", "http://x", "tcp://", ""],
+    "--address": ["tcp://127.0.0.1:5555", "tcp://0.0.0.0:5555", "ipc:///tmp/x", "udp://x", ""],
+    "--adapter": list(ADAPTERS) + ["hb50"],
+    "--console-host": ["127.0.0.1", "0.0.0.0", "::1", "nothost", ""],
+    "--keys": ["missing", "file", "out"],
+    "--test-policy": ["missing.onnx", "file", ""],
+    "--policy": ["missing.onnx", "file", ""],
+    "--events": PATHS,
 }
 INTEGER_OPTIONS = ["--steps", "--total-steps", "--chunk-steps", "--warmup-steps", "--eval-steps", "--seeds",
                    "--first-seed", "--num-processes", "--process-id", "--vmapped", "--seed", "--init-seed", "--envs",
-                   "--epochs", "--batch-size"]
+                   "--epochs", "--batch-size", "--console-port"]
 FLOAT_OPTIONS = ["--gait-seconds", "--target-velocity", "--control-hz", "--episode-seconds", "--updates-per-step",
-                 "--eval-seconds", "--reset-seconds", "--seconds", "--action-noise"]
+                 "--eval-seconds", "--reset-seconds", "--seconds", "--action-noise", "--link-timeout-s",
+                 "--checkpoint-every-s", "--watchdog-periods"]
 PATH_OPTIONS = ["--out", "--results-dir", "--figures-dir", "--json", "--markdown", "--plot", "--to"]
 FLAGS = ["--quiet", "--restart", "--no-tensorboard", "--dry-run", "--force", "--planned-contacts", "--unthrottled",
-         "--no-sensor-noise"]
+         "--no-sensor-noise", "--console", "--operator-resets"]
 RUN = ["--approach", "--algo", "--task", "--protocol", "--robot", "--set", "--approach-param", "--algo-param",
        "--task-param", "--conditions", "--condition"]
 CLUSTER = ["--coordinator", "--num-processes", "--process-id"]  # --distributed would join a cluster: left out
@@ -101,7 +110,12 @@ COMMANDS = {
     "realtime": RUN + ["--target-velocity", "--steps", "--warmup-steps", "--control-hz", "--episode-seconds",
                        "--planned-contacts", "--updates-per-step", "--unthrottled", "--eval-seconds", "--seed",
                        "--init-from", "--init-seed", "--robot-adapter", "--reset-seconds", "--no-sensor-noise", "--out",
-                       "--restart", "--quiet"],
+                       "--restart", "--quiet", "--link", "--keys", "--link-timeout-s", "--console", "--console-host",
+                       "--console-port", "--operator-resets", "--test-policy", "--checkpoint-every-s"],
+    "robot-server": RUN + ["--adapter", "--address", "--keys", "--watchdog-periods", "--policy", "--events",
+                           "--reset-seconds", "--no-sensor-noise"],
+    "link-keys": [],
+    "export": ["--seed", "--out"],
     "evaluate": ["--seed", "--command", "--seconds", "--conditions", "--engine", "--json"],
     "render": ["--seed", "--command", "--seconds", "--conditions", "--out"],
     "estimator collect": ["--results", "--steps", "--envs", "--task", "--action-noise", "--seed", "--out"],
@@ -110,7 +124,8 @@ COMMANDS = {
     "list": [],
 }
 POSITIONAL = {"evaluate": [str(WITH_POLICY)] * 3 + [str(POLICY_MISSING), "missing.json", "file"]}
-POSITIONAL["render"] = POSITIONAL["evaluate"]
+POSITIONAL["render"] = POSITIONAL["export"] = POSITIONAL["evaluate"]
+POSITIONAL["link-keys"] = ["keys", "new/keys", "file", ""]
 MOST = {"evaluate": 3, "render": 3}
 """Options drawn at most (default 6): each of these few is refused often, so more would leave no valid case."""
 LEADING = {"sweep": ["--vary"], "publish": ["--to"], "estimator fit": ["--dataset"]}
