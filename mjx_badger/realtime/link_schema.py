@@ -60,7 +60,7 @@ def decode(raw: bytes) -> dict:
         raise Refused(f"not JSON text ({type(error).__name__}); messages are UTF-8 JSON objects") from None
     if not isinstance(message, dict):
         raise Refused("a message is a JSON object")
-    if message.get("v") != VERSION:
+    if type(message.get("v")) is not int or message["v"] != VERSION:  # true and 1.0 equal 1 in Python, not here
         raise Refused(f"schema version {message.get('v')!r}; this robot speaks version {VERSION}")
     if not isinstance(message.get("id"), int) or isinstance(message.get("id"), bool):
         raise Refused("a message has an integer id")

@@ -25,6 +25,7 @@ def test_a_message_round_trips_with_its_arrays_as_lists():
     (b'{"v": 1, "id": true, "type": "read"}', "integer id"),
     (b'{"v": 1, "id": 1, "targets": [NaN]}', "not JSON"),
     (b"x" * (link_schema.MAX_BYTES + 1), "at most"),
+    (b'{"v": 1, "id": 1, "x": ' + b"[" * 2000 + b"]" * 2000 + b"}", "not JSON"),  # once a RecursionError
 ])
 def test_what_breaks_the_schema_is_refused_by_name(raw, why):
     with pytest.raises(Refused, match=why):
@@ -43,5 +44,10 @@ def test_fields_are_checked_for_shape_type_finiteness_and_range():
         link_schema.vector({"targets": [0.0] * 3 + [2.0] + [0.0] * 8}, "targets", 12, low, high)
     with pytest.raises(Refused, match=r"kp must be a number in \[0.0, 200.0\]"):
         link_schema.number({"kp": 201}, "kp", 0.0, 200.0)
+    # An integer JSON reads and no float holds (once an OverflowError that stopped the robot server).
+    with pytest.raises(Refused, match="list of 12"):
+        link_schema.vector({"targets": [0.0] * 11 + [10**400]}, "targets", 12)
+    with pytest.raises(Refused, match="kp must be a number"):
+        link_schema.number(link_schema.decode(b'{"v": 1, "id": 1, "kp": 1' + b"0" * 400 + b"}"), "kp", 0.0, 200.0)
     with pytest.raises(TypeError, match="not part of the link's schema"):
         link_schema.encode({"x": object()})
