@@ -28,6 +28,7 @@ class LinkedRobot(Robot):
         self.robot: dict = {}
         """The robot's side as of the last reply: mode, reason, damps, time."""
         self.round_trips: list[float] = []
+        """Seconds from each control-period request (read, command, hold, damp, drive) to its reply."""
         self.info = None
 
     # The Robot protocol.
@@ -99,9 +100,10 @@ class LinkedRobot(Robot):
                 continue
             if reply["id"] == request_id:
                 break
-        self.round_trips.append(time.perf_counter() - sent)
-        if len(self.round_trips) > 100_000:
-            del self.round_trips[:50_000]
+        if timeout_s is None:  # the control period's requests, not a reset's or a hello's long waits
+            self.round_trips.append(time.perf_counter() - sent)
+            if len(self.round_trips) > 100_000:
+                del self.round_trips[:50_000]
         self.robot = reply.get("robot") if isinstance(reply.get("robot"), dict) else {}
         if reply.get("type") == "refused":
             reason = self.robot.get("reason")
