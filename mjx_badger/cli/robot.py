@@ -12,6 +12,7 @@ from mjx_badger.cli.common import Flat
 from mjx_badger.core.validation import integer, number, writable_dir, writable_file
 from mjx_badger.realtime import adapters, launch, link_keys, memory
 from mjx_badger.realtime.config import RealtimeConfig
+from mjx_badger.realtime.interface import LinkLost
 
 
 def _existing(path: Optional[Path], what: str) -> None:
@@ -86,6 +87,9 @@ class Realtime:
         except ValueError as error:  # a saved run of another configuration in the folder
             print(f"error: {error}", file=sys.stderr)
             return 2
+        except LinkLost as error:  # the robot out of reach before the run began; its checkpoint is kept
+            print(f"error: the robot at {self.link}: {error}", file=sys.stderr)
+            return 1
         if figure is not None:
             print(f"figure: {figure}")
         return 0

@@ -34,7 +34,8 @@ class LinkedRobot(Robot):
     # The Robot protocol.
     def start(self) -> None:
         self.info = self.request("hello", timeout_s=max(self.timeout_s, 2.0))
-        self.request("start", timeout_s=self.reset_timeout_s)
+        # A robot its watchdog damped (the training process before this one died) stands up again by a reset.
+        self.request("reset" if self.robot.get("mode") == "damped" else "start", timeout_s=self.reset_timeout_s)
 
     def read(self) -> Sensors:
         reply = self.request("read")

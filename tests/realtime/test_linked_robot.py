@@ -41,7 +41,7 @@ def test_read_gives_the_robots_sensors_and_truth_and_its_clock_runs_once_started
             times.append(link.read().time)
         assert 0.0 < times[0] < times[1] < times[2]  # the physics runs on the robot's side
         assert link.truth()["linear_velocity"].shape == (3,) and np.isfinite(link.truth()["linear_velocity"]).all()
-        assert len(link.round_trips) == 2 + 2 + 3  # hello and start, two reads before, three after
+        assert len(link.round_trips) == 2 + 3  # two reads before, three after (hello and start wait longer: not counted)
         assert all(0.0 < trip < 1.0 for trip in link.round_trips)
         assert link.robot["mode"] == "standing" and link.robot["damps"] == 0
         link.stop()
@@ -101,5 +101,18 @@ def test_a_late_reply_is_never_taken_for_the_next_requests():
         reply = link.request("hello", timeout_s=2.0)
         assert reply["type"] == "ok" and reply["id"] == 3 and reply["joints"] == 12
         assert time.perf_counter() - sent >= 0.1  # it waited behind the late read
-        assert server.reads == 1 and len(link.round_trips) == 2  # the lost read is no round trip
+        assert server.reads == 1 and link.round_trips == []  # the lost read is no round trip, hellos wait longer
         assert link.read().joint_angle.shape == (12,) and server.reads == 2
+
+
+def test_a_new_training_process_stands_up_a_robot_its_predecessor_left_damped():
+    server = RobotServer(SimulatedHB40(reset_seconds=0.0), address="tcp://127.0.0.1:0", watchdog_s=0.05)
+    with serving(server):
+        first = LinkedRobot(server.address, timeout_s=0.5)
+        first.start()
+        first.command(first.read().joint_angle, 60.0, 3.0)
+        time.sleep(0.3)  # the first process is gone: no command within the watchdog's time
+        assert server.mode == "damped" and server.reason.startswith("no valid command")
+        second = LinkedRobot(server.address, timeout_s=0.5)
+        second.start()  # a reset, not a start: the robot lay damped
+        assert server.mode == "standing" and second.robot["mode"] == "standing"
