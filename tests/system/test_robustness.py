@@ -96,7 +96,7 @@ def test_train_with_more_steps_than_the_step_counters_hold_is_refused(capsys):
     (["train", "--algo-param", "batch_size=0"], "algorithm parameter batch_size must be an integer in 1.."),
     (["train", "--seeds", "2000000"], "--seeds must be an integer in 1..1000000"),
     (["train", "--gait-seconds", "61"], "gait_seconds must be a finite number in (0, 60]"),
-    (["realtime", "--reset-seconds", "-1"], "--reset-seconds must not be negative"),
+    (["realtime", "--reset-seconds", "-1"], "--reset-seconds must be a finite number in [0, 3600], not -1.0"),
 ])
 def test_bad_values_are_refused_in_one_line_naming_the_field(capsys, argv, says):
     refused(capsys, argv, says)
