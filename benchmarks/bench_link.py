@@ -174,7 +174,7 @@ PARTS = ("timed", "kill_to_damp", "stall", "restart")
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--kills", type=int, default=20)
     parser.add_argument("--steps", type=int, default=3000, help="steps of each timed run (40 Hz; 1000 warm-up)")
     parser.add_argument("--only", nargs="+", choices=PARTS, default=list(PARTS),
@@ -182,7 +182,7 @@ def main() -> None:
     args = parser.parse_args()
     path = RESULTS / "link.json"
     result = json.loads(path.read_text()) if path.exists() and set(args.only) != set(PARTS) else {}
-    result.update(what=__doc__.splitlines()[0], command="python -m benchmarks.bench_link",
+    result.update(what=" ".join(__doc__.split("\n\n")[0].split()), command="python -m benchmarks.bench_link",
                   machine=f"{os.cpu_count()} CPU cores, no GPU")
     measure = {"timed": lambda folder: timed_runs(folder, args.steps),
                "kill_to_damp": lambda folder: kill_to_damp(folder, args.kills),
