@@ -91,6 +91,11 @@ CPG_FREQUENCY_HZ = 2.0
 CPG_FREQUENCY_RANGE_HZ = (1.0, 4.0)
 RESIDUAL_SCALE = np.tile([0.1, 0.2, 0.2], 4).astype(np.float32)
 RESIDUAL_MODES = ("torque-average", "angle-average", "angle-sum", "average-d-bug")
+ROBOT_RESIDUAL = {"thesis-code": "angle-sum", "thesis-text": "angle-average"}
+"""CPG-RT as the robot ran it, per protocol: the released robot CPG's active branch adds the residuals to the IK's
+angles (honey_badger_ros/ros_connection/cpg.py); the text averages the two joint angles (§4.3 item 2, §6.3)."""
+CPG_ROBOT_PARAMS = ("apex_m", "frequency_hz")
+"""The constant-frequency CPGs' parameters the on-robot conditions set (conditions.py), sweepable like any other."""
 # The released code's CPG stance: foot targets (0.05, +-0.02, -0.25) m in its IK's leg frames,
 # rear legs 0.02 m further back (C/control_functions/inverse_kinematics.py).
 THESIS_CODE_STANCE = np.stack([0.05 - 0.02 * (robot.HB40.front_sign < 0), 0.02 * robot.HB40.left_sign,
@@ -105,12 +110,14 @@ class CPGActionState(NamedTuple):
 
 
 def central_pattern(dt: float, variable_frequency: bool = False, residual: str | None = None,
-                    protocol: Protocol = protocols.THESIS_CODE, spec: robot.RobotSpec = robot.HB40) -> ActionSpace:
+                    protocol: Protocol = protocols.THESIS_CODE, spec: robot.RobotSpec = robot.HB40,
+                    apex_m: float = cpg.APEX_HEIGHT, frequency_hz: float = CPG_FREQUENCY_HZ) -> ActionSpace:
     """CPG (§4.3): trot foot heights + predicted offsets, through inverse kinematics.
 
     thesis-text: offsets on the foot positions around the nominal stance, then our IK.
     thesis-code: the released code's IK of its own stance plus swing height, then the offsets
     added to the joint angles.
+    `apex_m` is the swing's apex height, `frequency_hz` the gait frequency unless
     `variable_frequency` adds a 13th action, the frequency in [1, 4] Hz (CPG-VF).
     `residual` adds 12 residual joint angles around the nominal pose (CPG-RT), combined with
     the CPG's joint angles by one of RESIDUAL_MODES:
@@ -134,11 +141,11 @@ def central_pattern(dt: float, variable_frequency: bool = False, residual: str |
 
     def step(state, action):
         action = jnp.clip(action, -1.0, 1.0)
-        frequency = low + (high - low) * 0.5 * (action[12] + 1.0) if variable_frequency else CPG_FREQUENCY_HZ
+        frequency = low + (high - low) * 0.5 * (action[12] + 1.0) if variable_frequency else frequency_hz
         advanced = cpg.advance(state.cpg, frequency, dt)
         # The released code reads the heights before it advances the phase (beat.py).
         phase = state.cpg.phase if protocol.cpg_heights_before_advance else advanced.phase
-        heights = cpg.foot_heights(phase, spec=spec)
+        heights = cpg.foot_heights(phase, apex_m, spec=spec)
         lift = jnp.zeros((4, 3)).at[:, 2].set(heights)
         if code:
             offsets = action[:12] * JOINT_OFFSET_SCALE
@@ -242,26 +249,42 @@ def _jt(kind: str):
     return lambda dt, protocol, spec, **params: joint_targets(jt_filter(kind, dt, protocol, **params), spec)
 
 
+def _cpg(**fixed):
+    return lambda dt, p, spec, **params: central_pattern(dt, protocol=p, spec=spec, **fixed, **params)
+
+
 for _approach in (
     Approach("jt-nf", "jt", "JT-NF", "tab:red", _jt("none")),
     Approach("jt-lpf", "jt", "JT-LPF", "tab:blue", _jt("lowpass"), ("cutoff_hz",)),
     Approach("jt-oef", "jt", "JT-OEF", "tab:green", _jt("one_euro"), ("min_cutoff", "beta", "d_cutoff")),
-    Approach("cpg-d", "cpg", "CPG-D", "tab:purple", lambda dt, p, spec: central_pattern(dt, protocol=p, spec=spec)),
-    Approach("cpg-vf", "cpg", "CPG-VF", "tab:orange",
-             lambda dt, p, spec: central_pattern(dt, variable_frequency=True, protocol=p, spec=spec)),
+    Approach("cpg-d", "cpg", "CPG-D", "tab:purple", _cpg(), CPG_ROBOT_PARAMS),
+    Approach("cpg-vf", "cpg", "CPG-VF", "tab:orange", _cpg(variable_frequency=True), ("apex_m",)),
     Approach("cpg-rt", "cpg", "CPG-RT", "tab:brown",
-             lambda dt, p, spec: central_pattern(dt, residual=p.cpg_residual, protocol=p, spec=spec)),
-    Approach("cpg-rt-avg", "cpg", "CPG-RT-avg", "tab:pink",
-             lambda dt, p, spec: central_pattern(dt, residual="angle-average", protocol=p, spec=spec)),
-    Approach("cpg-rt-sum", "cpg", "CPG-RT-sum", "tab:gray",
-             lambda dt, p, spec: central_pattern(dt, residual="angle-sum", protocol=p, spec=spec)),
+             lambda dt, p, spec, **params: central_pattern(dt, residual=p.cpg_residual, protocol=p, spec=spec,
+                                                           **params), CPG_ROBOT_PARAMS),
+    Approach("cpg-rt-avg", "cpg", "CPG-RT-avg", "tab:pink", _cpg(residual="angle-average"), CPG_ROBOT_PARAMS),
+    Approach("cpg-rt-sum", "cpg", "CPG-RT-sum", "tab:gray", _cpg(residual="angle-sum"), CPG_ROBOT_PARAMS),
 ):
     register(_approach)
 
 
+def on_robot(approach: str, protocol: Protocol, conditions) -> tuple[Protocol, dict]:
+    """(protocol, params) of `approach` as the robot of `conditions` (conditions.py) runs it: CPG-RT's mix and the
+    CPG's swing apex and frequency where the conditions set them; a parameter the run sets itself comes later."""
+    if conditions is None or not is_cpg(approach):
+        return protocol, {}
+    if conditions.robot_cpg_residual:
+        protocol = protocol.replace(cpg_residual=ROBOT_RESIDUAL.get(protocol.name, "angle-average"))
+    takes = APPROACHES[approach].params
+    params = {"apex_m": conditions.cpg_swing_height_m, "frequency_hz": conditions.cpg_frequency_hz}
+    return protocol, {k: v for k, v in params.items() if v is not None and k in takes}
+
+
 def make_action_space(approach: str, dt: float, protocol: Protocol = protocols.THESIS_CODE,
-                      spec: robot.RobotSpec = robot.HB40, **params) -> ActionSpace:
-    """The action pipeline of `approach` at control period `dt` under `protocol`, on the robot `spec`."""
+                      spec: robot.RobotSpec = robot.HB40, conditions=None, **params) -> ActionSpace:
+    """The action pipeline of `approach` at control period `dt` under `protocol`, on the robot `spec`, as the robot
+    of `conditions` runs it (None: the simulation's)."""
     check_robot(approach, spec, protocol)
     check_params(approach, params)
-    return APPROACHES[approach].build(dt, protocol, spec, **params)._replace(name=approach)
+    protocol, robot_params = on_robot(approach, protocol, conditions)
+    return APPROACHES[approach].build(dt, protocol, spec, **{**robot_params, **params})._replace(name=approach)

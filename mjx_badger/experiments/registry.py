@@ -86,7 +86,8 @@ class Experiment:
     conditions: str = "sim"
     """The conditions its runs learn under (conditions.py): 'sim', or on-robot 'office' or 'outdoor'."""
     fixed_steps: int | None = None
-    """Steps per run whatever the profile (the real-world experiments' 20k; smoke still shortens them)."""
+    """Steps per run whatever the profile (the real-world experiments' 20k, Table 5.5's 50k, §5.2.3; smoke still
+    shortens them)."""
     group: str = "simulation"
     """'simulation' (the default set `reproduce` runs) or 'real' (the real-world experiments, §5.2)."""
 
@@ -292,7 +293,7 @@ EXPERIMENTS.update({
         figures=("real",),
         table="real",
         conditions="outdoor",
-        fixed_steps=20_000,
+        fixed_steps=50_000,
         group="real",
     ),
 })

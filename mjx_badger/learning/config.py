@@ -10,6 +10,7 @@ from mjx_badger.agents.config import AgentConfig
 from mjx_badger.control import actions
 from mjx_badger.core import validation
 from mjx_badger.learning.spec import RunSpec
+from mjx_badger.protocol import conditions as on_robot
 from mjx_badger.records import results
 from mjx_badger.sim.env import EnvConfig
 
@@ -84,7 +85,7 @@ class TrainConfig(RunSpec):
 def from_results(document: dict) -> TrainConfig:
     """The TrainConfig a results document was written by; ValueError if it cannot be rebuilt exactly."""
     as_tuple = lambda v: tuple(as_tuple(x) for x in v) if isinstance(v, list) else v
-    stored = document["config"]
+    stored = _as_written_then(document["config"])
     fields = {f.name for f in dataclasses.fields(TrainConfig)} - {"env", "agent"}
     try:
         config = TrainConfig(**{k: as_tuple(v) for k, v in stored.items() if k in fields})
@@ -93,3 +94,16 @@ def from_results(document: dict) -> TrainConfig:
     if json.loads(json.dumps(results.config_dict(config))) != {**json.loads(json.dumps(results.config_dict(config))), **stored}:
         raise ValueError("the results' env or agent settings differ from their protocol's; cannot rebuild the run")
     return config
+
+
+def _as_written_then(stored: dict) -> dict:
+    """`stored` with each condition field added since it was written (conditions.ADDED_LATER) set, in its conditions
+    and as a condition change where it differs from the named conditions' value today: the run as it ran."""
+    written = (stored.get("env") or {}).get("conditions")
+    missing = {k: v for k, v in on_robot.ADDED_LATER.items() if written is not None and k not in written}
+    if not missing:
+        return stored
+    named = on_robot.get(stored.get("conditions", "sim"), ())
+    changes = tuple((k, v) for k, v in missing.items() if getattr(named, k) != v)
+    return {**stored, "env": {**stored["env"], "conditions": {**written, **missing}},
+            "condition_changes": [*stored.get("condition_changes", []), *map(list, changes)]}

@@ -23,6 +23,8 @@ from mjx_badger.tasks import locomotion as tasks
 
 ESTIMATED = ("estimated_forward_velocity", "estimated_lateral_velocity", "estimated_desired_velocity")
 """The onboard estimate's metrics, beside the true ones, where the env senses (on-robot conditions)."""
+STOPS = ("stops_before_fall", "premature_stops")
+"""Safety stops the truth shows no fall at, and those only the sensors' noise made (on-robot conditions, §6.4)."""
 
 
 class Carry(struct.PyTreeNode):
@@ -127,6 +129,7 @@ def make_train(config: TrainConfig) -> Trainer:
             falls_total=info["falls"].astype(jnp.float32),
             would_falls=info["would_falls"].astype(jnp.float32),
             blowups=info["blowups"].astype(jnp.float32),
+            **{k: info[k].astype(jnp.float32) for k in STOPS if k in info},  # on-robot conditions only
             **learn_metrics,
         )
         carry = carry.replace(env_state=env_state, agent_state=agent_state, buffer=buffer, key=key,
@@ -160,6 +163,12 @@ def make_train(config: TrainConfig) -> Trainer:
                                                                 "height", "reward", "desired_velocity",
                                                                 "command_lateral_velocity", "desired_error")}
         metrics.update({f"train/{k}": jnp.nanmean(steps[k]) for k in ESTIMATED if k in steps})  # sensing envs only
+        if "estimated_desired_velocity" in steps:  # the estimate's second moments: its gain over the run (analysis.py)
+            true, estimate = steps["desired_velocity"], steps["estimated_desired_velocity"]
+            metrics.update({"train/true_squared": jnp.nanmean(true * true),
+                            "train/estimate_squared": jnp.nanmean(estimate * estimate),
+                            "train/true_times_estimate": jnp.nanmean(true * estimate)})
+        metrics.update({f"train/{k}": steps[k][-1] for k in STOPS if k in steps})
         metrics.update({k: steps[k][-1] for k in steps if k.startswith("curriculum/")})
         metrics.update({k: jnp.nanmean(v) for k, v in steps.items() if k.startswith("reward/")})
         metrics.update({f"train/{k}": jnp.nanmean(steps[k]) for k in ("critic_loss", "q_mean", "actor_loss",

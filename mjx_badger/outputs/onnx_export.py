@@ -112,7 +112,7 @@ def actor_model(actor: policy.Policy) -> onnx.ModelProto:
 
 def refusal(config: TrainConfig) -> str:
     """'' or why the onboard runner cannot run the approach of `config`."""
-    protocol = config.protocol_spec
+    protocol, _ = actions.on_robot(config.approach, config.protocol_spec, config.conditions_spec)
     supported = f"the onboard runner takes {', '.join(SUPPORTED)}"
     if config.approach not in SUPPORTED and config.approach != "cpg-rt":
         return f"approach {config.approach!r} is not ported to the robot's computer; {supported}"
@@ -139,11 +139,14 @@ def filter_settings(config: TrainConfig) -> dict:
 
 def cpg_settings(config: TrainConfig) -> dict:
     """The foot-offsets CPG's figures (actions.central_pattern, cpg.py)."""
-    protocol, spec = config.protocol_spec, config.robot_spec
+    protocol, robot_params = actions.on_robot(config.approach, config.protocol_spec, config.conditions_spec)
+    params, spec = {**robot_params, **dict(config.approach_params)}, config.robot_spec
     residual = protocol.cpg_residual if config.approach == "cpg-rt" else CPG_RESIDUALS[config.approach]
     return {"variable_frequency": config.approach == "cpg-vf", "residual": residual,
-            "frequency_hz": actions.CPG_FREQUENCY_HZ, "frequency_range_hz": list(actions.CPG_FREQUENCY_RANGE_HZ),
-            "heights_before_advance": protocol.cpg_heights_before_advance, "apex_height": cpg.APEX_HEIGHT,
+            "frequency_hz": params.get("frequency_hz", actions.CPG_FREQUENCY_HZ),
+            "frequency_range_hz": list(actions.CPG_FREQUENCY_RANGE_HZ),
+            "heights_before_advance": protocol.cpg_heights_before_advance,
+            "apex_height": params.get("apex_m", cpg.APEX_HEIGHT),
             "swing_fraction": cpg.SWING_FRACTION, "leg_phase_offsets": cpg.leg_phase_offsets(spec).tolist(),
             "foot_offset_scale": actions.FOOT_OFFSET_SCALE.tolist(), "residual_scale": actions.RESIDUAL_SCALE.tolist(),
             "nominal_feet": kinematics.nominal_feet(spec).tolist()}

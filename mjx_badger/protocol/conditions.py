@@ -42,6 +42,20 @@ class Conditions:
     """The joint-target approaches run on the robot's own PD controller (Kp 60, Kd 3) at their algorithm's rate
     (CrossQ 40 Hz, SAC-UTD20 20 Hz, §5.2), as the released on-robot scripts run them, in place of the simulation
     code's 25 / 1 at 50 Hz (thesis-code only; thesis-text is already so)."""
+    cpg_swing_height_m: float | None = None
+    """The CPG's swing apex (m); None: the simulation's 0.15 (§4.3). The robot swung 0.2 m (§5.2.1, CPG-D; the released
+    robot CPG's beat generator), the agent's z-offset of up to 0.1 m on top as in simulation (the action's bound)."""
+    cpg_frequency_hz: float | None = None
+    """CPG-D's and CPG-RT's gait frequency (Hz); None: the simulation's 2. The released robot connection starts its
+    CPG at 1.75 (honey_badger_ros/ros_connection/ros_connection.py); the thesis gives no figure for the robot."""
+    robot_cpg_residual: bool = False
+    """CPG-RT mixes the CPG's joint angles with its residuals in joint angles, as on the robot, in place of the
+    simulation's torques: thesis-text their average (§4.3 item 2, §6.3), thesis-code the released robot CPG's sum."""
+    stop_on_sensed: bool = True
+    """The safety stop judges from what the robot senses (the IMU's noisy attitude and rates, the encoders), as the
+    released monitor read its bridge data (ros_connection.py); False: from the simulator's truth. Either way a stop
+    at which the truth shows no fall (tilt past the fall tilt, trunk below the fall height) counts as a stop before
+    a fall, and one the same rule on the truth would not make as premature (§5.2.1, §6.4)."""
 
     def validate(self) -> None:
         self.ground.validate()
@@ -51,6 +65,12 @@ class Conditions:
             raise ValueError(f"conditions {self.name!r}: the estimate in the loop needs sensing")
         if self.reset_seconds < 0 or self.push_newtons < 0:
             raise ValueError(f"conditions {self.name!r}: reset_seconds and push_newtons must not be negative")
+        if self.cpg_swing_height_m is not None and not 0.0 < self.cpg_swing_height_m <= 0.25:
+            raise ValueError(f"conditions {self.name!r}: cpg_swing_height_m {self.cpg_swing_height_m:g} is not in "
+                             f"(0, 0.25] m (a leg reaches about 0.3 m below its hip)")
+        if self.cpg_frequency_hz is not None and not 0.5 <= self.cpg_frequency_hz <= 4.0:
+            raise ValueError(f"conditions {self.name!r}: cpg_frequency_hz {self.cpg_frequency_hz:g} is not in "
+                             f"[0.5, 4] Hz")
 
     def replace(self, **changes) -> "Conditions":
         """A copy with fields changed (a one-factor swap); `ground.<field>` names a ground field, `sensing` takes
@@ -83,6 +103,11 @@ class Conditions:
         return out
 
 
+ADDED_LATER = {"cpg_swing_height_m": None, "cpg_frequency_hz": None, "robot_cpg_residual": False,
+               "stop_on_sensed": True}
+"""Fields added after results were first written, with the value every run had before: a file without one ran so."""
+
+
 SIM = Conditions("sim")
 """The simulation chapter: true velocity, exact sensors, the protocol's termination rule, a flat floor."""
 
@@ -95,6 +120,9 @@ OFFICE = Conditions(
     episode_seconds=20.0,
     ground=Ground(friction=(1.0, 1.0)),
     robot_controller=True,
+    cpg_swing_height_m=0.2,
+    cpg_frequency_hz=1.75,
+    robot_cpg_residual=True,
 )
 """§5.2.1: an office's smooth floor (friction 1.0, below the model's 1.1: assumed, and the lowest at which MJX's solver
 holds with the model's impratio 100, see MIN_FRICTION), the estimate in the loop, the robot's own stop, and about 20 s
@@ -109,6 +137,9 @@ OUTDOOR = Conditions(
     episode_seconds=20.0,
     ground=Ground(terrain="cobblestones", friction=(1.0, 1.3), incline_deg=3.0, impratio=10.0),
     robot_controller=True,
+    cpg_swing_height_m=0.2,
+    cpg_frequency_hz=1.75,
+    robot_cpg_residual=True,
 )
 """§5.2.2-5.2.3: uneven cobblestones with a 3 degree incline, friction varying between spots (1.0-1.3, assumed: rough
 stones, wet or dry), otherwise as the office. The contact solver runs at impratio 10 on the stones: at the model's 100

@@ -68,7 +68,9 @@ def build(config: RealtimeConfig):
     config.validate()
     protocol = config.protocol_spec.replace(episode_seconds=config.episode_seconds)
     task = config.make_task()
-    env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, protocol=protocol), config.robot_spec,
+    # The conditions' robot runs the CPG its way (swing, frequency, CPG-RT's mix); the loop senses for itself.
+    env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, protocol=protocol,
+                                                   conditions=config.conditions_spec), config.robot_spec,
                   config.approach_params)
     agent = make_agent(config.agent_config, env.observation_size, env.action_size)
     has_cpg = is_cpg(config.approach)

@@ -79,6 +79,23 @@ def gait_frequencies(document: dict) -> list[float]:
     return [gait_frequency(c, gait["physics_dt"]) for c in gait["contacts"]]
 
 
+GAIN_MOMENTS = ("train/desired_velocity", "train/estimated_desired_velocity", "train/true_squared",
+                "train/estimate_squared", "train/true_times_estimate")
+
+
+def estimate_gain(document: dict) -> dict | None:
+    """The onboard estimate against the truth over the whole run, per seed: `slope` (least squares, estimate =
+    slope x truth + offset) and `correlation`, pooled over every training step; None where the run did not sense
+    or its file predates the moments."""
+    if not all(name in document["metrics"] for name in GAIN_MOMENTS):
+        return None
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        t, e, tt, ee, te = (np.nanmean(series(document, name), axis=0) for name in GAIN_MOMENTS)  # equal chunks
+        cov, var_t, var_e = te - t * e, tt - t * t, ee - e * e
+        return {"slope": (cov / var_t).tolist(), "correlation": (cov / np.sqrt(var_t * var_e)).tolist()}
+
+
 def summarize(document: dict, target: float | None) -> dict:
     """Headline numbers of one run: time to target, final velocities, falls (mean and range), gait."""
     falls_curve = series(document, "train/falls")
@@ -90,6 +107,7 @@ def summarize(document: dict, target: float | None) -> dict:
     frequencies = gait_frequencies(document)
     metrics = document["metrics"]
     eval_velocity = final(document, "eval/desired_velocity") if "eval/desired_velocity" in metrics else None
+    gain = estimate_gain(document)
     return {
         "steps": document["steps"][-1],
         "minutes": document["sim_minutes"][-1],
@@ -109,6 +127,11 @@ def summarize(document: dict, target: float | None) -> dict:
         # Times the JT termination rule started firing, whether or not the protocol ended the episode.
         "would_falls_mean": float(series(document, "train/would_falls")[-1].mean())
         if "train/would_falls" in metrics else None,
+        # §6.4: the robot's stops at which the truth shows no fall yet, and those the sensors' noise alone made.
+        **{f"{name}_mean": float(series(document, f"train/{name}")[-1].mean()) if f"train/{name}" in metrics
+           else None for name in ("stops_before_fall", "premature_stops")},
+        "estimate_slope": None if gain is None else float(np.nanmean(gain["slope"])),
+        "estimate_correlation": None if gain is None else float(np.nanmean(gain["correlation"])),
         "gait_hz": float(np.nanmean(frequencies)) if frequencies and not np.all(np.isnan(frequencies)) else None,
         "seeds": len(document["seeds"]),
         "complete": document["complete"],

@@ -107,9 +107,10 @@ SWAPS = (
          ("pdec-error", "pdec-beats-random")),
 ) + tuple(
     # The reality gap, one part at a time: outdoor runs with one condition set back to the simulation's.
-    Swap(name, "thesis-code", (), "real-outdoor", ("jt-oef", "cpg-vf"), REAL_MEASURES, claims,
+    # (name, changes, claims[, approaches]): the approaches are JT-OEF and CPG-VF unless named.
+    Swap(name, "thesis-code", (), "real-outdoor", approaches, REAL_MEASURES, claims,
          conditions="outdoor", condition_changes=changes)
-    for name, changes, claims in (
+    for name, changes, claims, approaches in ((*swap, ("jt-oef", "cpg-vf"))[:4] for swap in (
         ("true velocity in the loop", (("estimate_in_loop", False),),
          ("real-faster-than-believed", "real-outdoor-jt", "real-outdoor-cpg")),
         # Between the robot's filter (all four feet, reading a few per cent of a walk) and the truth: the same
@@ -121,7 +122,12 @@ SWAPS = (
         ("simulation friction", (("ground.friction", 1.1),), ("real-outdoor-jt", "real-outdoor-cpg")),
         ("exact sensors", (("sensing", "exact"),), ("real-faster-than-believed", "real-outdoor-cpg")),
         ("no safety stop", (("safety_stop", False),), ("real-excluded-fall", "real-outdoor-cpg")),
-    ))
+        ("stop on the truth", (("stop_on_sensed", False),), ("real-excluded-fall", "real-outdoor-cpg")),
+        # The CPG as the simulation ran it, one setting at a time (each on the approaches it touches).
+        ("simulation CPG swing", (("cpg_swing_height_m", None),), ("real-outdoor-cpg",), ("cpg-d", "cpg-vf")),
+        ("simulation CPG frequency", (("cpg_frequency_hz", None),), ("real-outdoor-cpg",), ("cpg-d",)),
+        ("simulation CPG-RT mix", (("robot_cpg_residual", False),), ("real-excluded-fall",), ("cpg-rt",)),
+    )))
 SWAPS_BY_NAME = {swap.name: swap for swap in SWAPS}
 
 

@@ -77,14 +77,15 @@ class HB40Env(Observing, Terminating, Env):
         self.episode_steps = int(round(self.protocol.episode_seconds / self.control_dt))
         self.is_cpg = actions.is_cpg(approach)
         self.terminates = self.protocol.cpg_terminates or not self.is_cpg
+        self.conditions = self.config.conditions or SIM
+        self.conditions.validate()
+        # The CPG as the robot of the conditions runs it (its swing, its frequency, CPG-RT's mix).
         self.action_space = actions.make_action_space(approach, self.control_dt, self.protocol, spec,
-                                                      **dict(approach_params))
+                                                      self.conditions, **dict(approach_params))
         if isinstance(task, str):
             task = tasks.make_task(task, self.protocol.rewards, self.protocol.curriculum)
         self.task = task
         self.observation_layout = observation_layout(self.action_space, self.protocol)
-        self.conditions = self.config.conditions or SIM
-        self.conditions.validate()
         self.ground = self.conditions.ground
         self.mj_model = mjcf.load_model(spec, split_pd=self.action_space.split_pd, ground=self.ground)
         motors.set_pd_gains(self.mj_model, *self.protocol.pd_gains(self.is_cpg), split_pd=self.action_space.split_pd)
@@ -147,6 +148,8 @@ class HB40Env(Observing, Terminating, Env):
             "task_state": task_state,
             "falls": jnp.int32(0),
             "would_falls": jnp.int32(0),
+            **({"stops_before_fall": jnp.int32(0), "premature_stops": jnp.int32(0)} if self.conditions.safety_stop
+               else {}),
             "blowups": jnp.int32(0),
             "blew_up": jnp.bool_(False),
             "fallen": jnp.bool_(False),
@@ -229,6 +232,11 @@ class HB40Env(Observing, Terminating, Env):
         fallen, terminated, truncated = self._terminate(info, data, motion, senses, power_steps, finite)
         done = terminated | truncated
         metrics = self._metrics(state.metrics, data, motion, command, contributions, task_state, senses)
+        stops = {}
+        if self.conditions.safety_stop:  # §6.4: how many of the robot's stops came before any fall
+            before, premature = self.stop_kinds(data, fallen)
+            stops = {"stops_before_fall": info["stops_before_fall"] + before.astype(jnp.int32),
+                     "premature_stops": info["premature_stops"] + premature.astype(jnp.int32)}
         info = dict(
             info,
             rng=key,
@@ -248,6 +256,7 @@ class HB40Env(Observing, Terminating, Env):
             truncated=truncated,
             next_obs=obs,
             **senses,
+            **stops,
         )
         return State(data, obs, reward, done.astype(jnp.float32), metrics, info)
 

@@ -32,13 +32,26 @@ class Terminating:
         """(fallen, terminated, truncated): the fall rule on a finite state (a blow-up is counted in `blowups`, not
         as a (would-be) fall), whether the episode ends on it or a blow-up, and whether its time is up."""
         if self.conditions.safety_stop:  # the robot's own stop on its own readings, in place of the protocol's rule
-            fallen = self._safety_stop(senses["reading"] if senses else None, data) & finite
+            sensed = senses["reading"] if senses and self.conditions.stop_on_sensed else None
+            fallen = self._safety_stop(sensed, data) & finite
             terminated = fallen | ~finite
         else:
             fallen = self._fall_rule(data, motion, power_steps) & finite
             terminated = (fallen if self.terminates else jnp.bool_(False)) | ~finite
         truncated = (info["step"] + 1 >= self.episode_steps) & ~terminated
         return fallen, terminated, truncated
+
+    def stop_kinds(self, data, fallen):
+        """(before a fall, premature) of a safety stop `fallen`: the truth shows no fall yet (no tilt past the fall tilt,
+        the trunk above the fall height: the tilt-height rule), and the same rule on the truth would not have stopped."""
+        down = self._tilted_or_low(data, *roll_pitch(data.xmat[self._trunk]))
+        return fallen & ~down, fallen & ~self._safety_stop(None, data)
+
+    def _tilted_or_low(self, data, roll, pitch):
+        """The tilt-height rule: roll or pitch past the robot's fall tilt, or the trunk below its fall height."""
+        floor = terrain.height_at(self.ground, data.qpos[0]) if self.ground.incline_deg else 0.0
+        tilt = self.spec.fall_tilt_rad
+        return (jnp.abs(roll) > tilt) | (jnp.abs(pitch) > tilt) | (data.qpos[2] - floor < self.spec.fall_height)
 
     def _safety_stop(self, reading, data):
         """Whether the robot stops itself: under thesis-code the released robot env's rule (its heading pitched 30 deg
@@ -56,12 +69,10 @@ class Terminating:
 
     def _fall_rule(self, data, motion, power_steps):
         """Whether the protocol's termination rule fires on this step."""
+        if self.protocol.termination == "tilt-height":
+            return self._tilted_or_low(data, motion.roll, motion.pitch)
         rot = data.xmat[self._trunk]
         floor = terrain.height_at(self.ground, data.qpos[0]) if self.ground.incline_deg else 0.0
-        if self.protocol.termination == "tilt-height":
-            tilt = self.spec.fall_tilt_rad
-            return ((jnp.abs(motion.roll) > tilt) | (jnp.abs(motion.pitch) > tilt)
-                    | (data.qpos[2] - floor < self.spec.fall_height))
         # The trunk box's lowest corner at the floor: the trunk-floor contact (a box on a plane).
         trunk_bottom = data.xpos[self._trunk, 2] - floor - jnp.sum(jnp.abs(rot[2]) * self._trunk_half)
         return ((jnp.abs(motion.roll) >= CODE_FALL_TILT_RAD) | (jnp.abs(motion.pitch) >= CODE_FALL_TILT_RAD)

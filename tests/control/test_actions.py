@@ -112,3 +112,23 @@ def test_thesis_code_residual_cpg_folds_the_d_term_bug_into_one_pd_target():
     q, qdot = robot.nominal_pose() + 0.01, np.full(12, 0.3)
     expected = 0.5 * (60 * (t - q) - 3 * qdot + 60 * (n_r - q) + 3 * (a - qdot))
     np.testing.assert_allclose(60 * (np.asarray(ctrl) - q) - 3 * qdot, expected, rtol=1e-5, atol=1e-5)
+
+
+def test_on_the_robot_the_cpg_swings_0_2_m_at_1_75_hz_and_mixes_residuals_as_each_protocol_ran_it():
+    from mjx_badger.protocol import conditions
+    office = conditions.OFFICE
+    space = actions.make_action_space("cpg-d", 0.025, TEXT, conditions=office)
+    state, _ = space.step(space.init(), jnp.zeros(12))
+    assert float(state.cpg.phase) == pytest.approx(1.75 * 0.025)
+    # A parameter the run sets wins over the conditions': at 2 Hz five steps reach the apex, now 0.2 m.
+    space = actions.make_action_space("cpg-d", 0.025, TEXT, conditions=office, frequency_hz=2.0)
+    state = space.init()
+    for _ in range(5):
+        state, ctrl = space.step(state, jnp.zeros(12))
+    lift = np.asarray(kinematics.forward(ctrl))[:, 2] - kinematics.nominal_feet()[:, 2]
+    np.testing.assert_allclose(lift, [0.2, 0.0, 0.0, 0.2], atol=1e-5)
+    assert actions.on_robot("cpg-rt", CODE, office)[0].cpg_residual == "angle-sum"  # the released robot CPG
+    assert actions.on_robot("cpg-rt", TEXT, office)[0].cpg_residual == "angle-average"  # §4.3 item 2
+    assert actions.on_robot("cpg-vf", CODE, office)[1] == {"apex_m": 0.2}  # its frequency is its own action
+    assert actions.on_robot("jt-oef", CODE, office) == (CODE, {})
+    assert actions.on_robot("cpg-rt", CODE, None) == (CODE, {})  # simulation: as the simulation code ran it

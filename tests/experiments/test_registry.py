@@ -11,12 +11,14 @@ def test_groups_expand_into_their_experiments_once_each():
     assert len(registry.expand(["simulation", "real", "real"])) == len(EXPERIMENTS)
 
 
-def test_a_runs_steps_follow_its_profile_its_caps_and_the_real_worlds_20k():
+def test_a_runs_steps_follow_its_profile_its_caps_and_the_real_worlds_20k_and_table_5_5s_50k():
     algos = EXPERIMENTS["algo-comparison"]
     droq, crossq = (next(r for r in algos.runs if r.algo == a) for a in ("droq", "crossq"))
     assert algos.steps(crossq, "quick") == PROFILES["quick"].steps == 20_000 and algos.steps(droq, "quick") == 10_000
     office = EXPERIMENTS["real-office"]
     assert office.steps(office.runs[0], "full") == 20_000 and office.steps(office.runs[0], "smoke") == 600
+    omni = EXPERIMENTS["real-outdoor-omni"]  # Table 5.5: 50k steps (§5.2.3)
+    assert omni.steps(omni.runs[0], "quick") == omni.steps(omni.runs[0], "full") == 50_000
     config = office.train_config(office.runs[1], "quick")
     assert config.conditions == "office" and dict(config.task_params) == {"target_velocity": 0.25}
 

@@ -49,3 +49,11 @@ def test_a_floor_too_slippery_for_the_solver_is_refused_before_compiling():
     TrainConfig(conditions="office", condition_changes=(("ground.friction", 0.7), ("ground.impratio", 1.0)))
 
 
+
+
+def test_the_robots_cpg_settings_out_of_reach_are_refused_naming_the_range():
+    with pytest.raises(ValueError, match=r"cpg_swing_height_m 0.4 is not in \(0, 0.25\] m"):
+        TrainConfig(approach="cpg-d", conditions="office", condition_changes=(("cpg_swing_height_m", 0.4),))
+    with pytest.raises(ValueError, match=r"cpg_frequency_hz 6 is not in \[0.5, 4\] Hz"):
+        TrainConfig(approach="cpg-d", conditions="office", condition_changes=(("cpg_frequency_hz", 6.0),))
+    TrainConfig(approach="cpg-d", conditions="office", condition_changes=(("cpg_swing_height_m", None),))

@@ -90,3 +90,14 @@ def test_a_physics_blowup_ends_the_episode_without_nans_and_is_not_a_fall(env, e
     assert int(state.info["would_falls"]) == 0  # nor a would-be fall: the rule is read on finite states only
     assert np.isfinite(np.asarray(state.info["next_obs"])).all() and np.isfinite(float(state.reward))
     assert np.isfinite(np.asarray(state.obs)).all() and int(state.info["step"]) == 0  # a fresh episode
+
+
+def test_a_stop_the_truth_shows_no_fall_at_is_counted_and_one_only_the_noise_made_is_premature(office):
+    """The truth's tilt-height rule falls at 0.8 rad; the robot's own stop (on the truth) at 30 deg of pitch."""
+    stop = jnp.bool_(True)
+    kinds = lambda angle: tuple(bool(k) for k in office.stop_kinds(_forward_data(office, _tilted(office, angle, 1)),
+                                                                     stop))
+    assert kinds(0.0) == (True, True)  # level: a stop here came from the sensors' noise alone
+    assert kinds(np.deg2rad(40)) == (True, False)  # the stop's own rule fires on the truth, but no fall yet
+    assert kinds(np.deg2rad(60)) == (False, False)  # past the fall tilt: a stop at a fall
+    assert not any(bool(k) for k in office.stop_kinds(_forward_data(office, office._init_data), jnp.bool_(False)))
