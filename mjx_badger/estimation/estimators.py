@@ -51,6 +51,11 @@ class KalmanConfig:
     """m/s^2: IMU noise plus unmodelled vibration, the growth of the prediction's variance."""
     odometry_std: float = 0.1
     """m/s: foot slip and contact-timing error of one leg's odometry."""
+    contact_trust: float = 0.0
+    """How far `kinematic-kalman` weighs each foot by the reading's contacts rather than all four alike: 0 the thesis's
+    robot (no gait plan, §2.6.1), 1 the same as `kinematic-kalman-contact`. Not a setting of the thesis: the family
+    along which the estimate-gain study (docs/real-world.md) moves the estimate from a few per cent of the truth to
+    most of it."""
 
 
 def leg_odometry(joint_angle, joint_velocity, angular_velocity, spec: RobotSpec = HB40) -> jax.Array:
@@ -93,7 +98,8 @@ def kinematic_kalman(config: KalmanConfig = KalmanConfig(), spec: RobotSpec = HB
         acceleration = _world_acceleration(reading)
         velocity = state.velocity + acceleration * dt
         covariance = state.covariance + jnp.eye(3) * (config.acceleration_std * dt) ** 2
-        weights = jnp.asarray(reading.contacts, jnp.float32) if contacts else jnp.ones(len(spec.legs), jnp.float32)
+        trust = 1.0 if contacts else config.contact_trust
+        weights = (1.0 - trust) + trust * jnp.asarray(reading.contacts, jnp.float32)  # trust 0: every foot alike
         total = jnp.sum(weights)
         odometry = leg_odometry(reading.joint_angle, reading.joint_velocity, reading.angular_velocity, spec)
         measured = reading.rotation @ (weights @ odometry / jnp.maximum(total, 1e-6))

@@ -100,10 +100,23 @@ def _as_written_then(stored: dict) -> dict:
     """`stored` with each condition field added since it was written (conditions.ADDED_LATER) set, in its conditions
     and as a condition change where it differs from the named conditions' value today: the run as it ran."""
     written = (stored.get("env") or {}).get("conditions")
-    missing = {k: v for k, v in on_robot.ADDED_LATER.items() if written is not None and k not in written}
+    if written is None:
+        return stored
+    kalman = (written.get("sensing") or {}).get("kalman")
+    missing = {}
+    for key, value in on_robot.ADDED_LATER.items():
+        group, _, field = key.rpartition(".")
+        holder = kalman if group == "kalman" else written
+        if holder is not None and field not in holder:
+            missing[key] = value
     if not missing:
         return stored
     named = on_robot.get(stored.get("conditions", "sim"), ())
-    changes = tuple((k, v) for k, v in missing.items() if getattr(named, k) != v)
-    return {**stored, "env": {**stored["env"], "conditions": {**written, **missing}},
-            "condition_changes": [*stored.get("condition_changes", []), *map(list, changes)]}
+    today = lambda k: getattr(named.sensing.kalman, k.split(".")[1]) if k.startswith("kalman.") else getattr(named, k)
+    changes = [[k, v] for k, v in missing.items() if today(k) != v]
+    conditions = {**written, **{k: v for k, v in missing.items() if not k.startswith("kalman.")}}
+    if kalman is not None:
+        conditions["sensing"] = {**written["sensing"], "kalman": {
+            **kalman, **{k.split(".")[1]: v for k, v in missing.items() if k.startswith("kalman.")}}}
+    return {**stored, "env": {**stored["env"], "conditions": conditions},
+            "condition_changes": [*stored.get("condition_changes", []), *changes]}

@@ -119,6 +119,10 @@ def refusal(config: TrainConfig) -> str:
     if actions.is_cpg(config.approach) and protocol.cpg_action != "foot-offsets":
         return (f"{config.approach} under {protocol.name}: the released code's CPG (cpg_action "
                 f"{protocol.cpg_action!r}) is not ported; {supported} with foot offsets (thesis-text)")
+    sensing = config.conditions_spec.sensing
+    if sensing is not None and sensing.kalman.contact_trust:
+        return (f"kalman.contact_trust {sensing.kalman.contact_trust:g}: the onboard estimator weighs every foot alike "
+                "(the thesis's robot); export a policy trained with contact_trust 0")
     if config.approach == "cpg-rt" and protocol.cpg_residual not in onboard.RESIDUALS:
         return (f"cpg-rt under {protocol.name} combines by {protocol.cpg_residual!r}, two PD controllers per joint "
                 f"that a robot does not have; {supported}")

@@ -13,6 +13,7 @@ import dataclasses
 
 from mjx_badger.core import validation
 from mjx_badger.estimation import estimators
+from mjx_badger.estimation.estimators import KalmanConfig
 from mjx_badger.estimation.sensors import EXACT, Sensing
 from mjx_badger.robot.terrain import Ground
 
@@ -76,13 +77,19 @@ class Conditions:
         """A copy with fields changed (a one-factor swap); `ground.<field>` names a ground field, `sensing` takes
         None, 'exact' (exact sensors, the default estimator) or an estimator's name (the default sensors with it)."""
         ground = {k.split(".", 1)[1]: v for k, v in changes.items() if k.startswith("ground.")}
-        rest = {k: v for k, v in changes.items() if not k.startswith("ground.")}
+        kalman = {k.split(".", 1)[1]: v for k, v in changes.items() if k.startswith("kalman.")}
+        rest = {k: v for k, v in changes.items() if not k.startswith(("ground.", "kalman."))}
         fields = {f.name for f in dataclasses.fields(self)} - {"name", "ground"}
-        unknown = sorted(set(rest) - fields) + [f"ground.{k}" for k in sorted(set(ground) - {f.name for f in
-                                                                                              dataclasses.fields(Ground)})]
+        kalman_fields = [f.name for f in dataclasses.fields(KalmanConfig)]
+        unknown = (sorted(set(rest) - fields)
+                   + [f"ground.{k}" for k in sorted(set(ground) - {f.name for f in dataclasses.fields(Ground)})]
+                   + [f"kalman.{k}" for k in sorted(set(kalman) - set(kalman_fields))])
         if unknown:
             raise ValueError(f"unknown condition fields {', '.join(unknown)}; choose from {', '.join(sorted(fields))}, "
-                             f"ground.{', ground.'.join(f.name for f in dataclasses.fields(Ground))}")
+                             f"ground.{', ground.'.join(f.name for f in dataclasses.fields(Ground))}, "
+                             f"kalman.{', kalman.'.join(kalman_fields)}")
+        for key, value in kalman.items():  # the estimator's noise levels: the estimate's quality (docs/real-world.md)
+            validation.number(f"condition field kalman.{key}", value, *KALMAN_RANGES[key])
         if isinstance(ground.get("friction"), (int, float)) and not isinstance(ground["friction"], bool):
             ground["friction"] = (float(ground["friction"]),) * 2
         # The kind of value each field holds (any of the defined conditions' kinds), before it is set.
@@ -99,12 +106,21 @@ class Conditions:
         elif isinstance(rest.get("sensing"), str):
             rest["sensing"] = Sensing(estimator=rest["sensing"])
         out = dataclasses.replace(self, ground=dataclasses.replace(self.ground, **ground), **rest)
+        if kalman:
+            if out.sensing is None:
+                raise ValueError(f"conditions {self.name!r}: kalman.* sets the estimator's noise, and these conditions "
+                                 "sense nothing")
+            out = dataclasses.replace(out, sensing=dataclasses.replace(
+                out.sensing, kalman=dataclasses.replace(out.sensing.kalman, **kalman)))
         out.validate()
         return out
 
 
+KALMAN_RANGES = {"acceleration_std": (1e-3, 100.0), "odometry_std": (1e-3, 100.0), "contact_trust": (0.0, 1.0)}
+"""What `kalman.<field>` takes: noise levels (m/s^2, m/s) and the contact trust, a share."""
+
 ADDED_LATER = {"cpg_swing_height_m": None, "cpg_frequency_hz": None, "robot_cpg_residual": False,
-               "stop_on_sensed": True}
+               "stop_on_sensed": True, "kalman.contact_trust": 0.0}
 """Fields added after results were first written, with the value every run had before: a file without one ran so."""
 
 

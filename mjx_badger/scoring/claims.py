@@ -102,17 +102,26 @@ def _gait(experiment: str, names: tuple):
     return measure
 
 
+def _best_and_mean(r: Results, approaches: tuple) -> tuple:
+    """({approach: best seed's final evaluation speed}, {approach: the seeds' mean}, words) on forward-max: the thesis
+    gives JT-NF's best (2.2) beside its average (1.90) and the CPGs' averages (§5.1.3), so both are scored."""
+    best = {a: r.summary("forward-max", a)["final_eval_velocity_max"] for a in approaches}
+    mean = {a: r.summary("forward-max", a)["final_eval_velocity"] for a in approaches}
+    words = ", ".join(f"{analysis.display_name(a)} {best[a]:.2f} / {mean[a]:.2f}" for a in approaches)
+    return best, mean, words + " (best seed / mean)"
+
+
 def _max_velocity(r: Results):
-    v = {a: r.summary("forward-max", a)["final_eval_velocity_max"] for a in JT}
-    words = ", ".join(f"{analysis.display_name(a)} {v[a]:.2f}" for a in JT)
-    return words, v["jt-nf"] > v["jt-oef"] > v["jt-lpf"]
+    best, mean, words = _best_and_mean(r, JT)
+    return words, all(v["jt-nf"] > v["jt-oef"] > v["jt-lpf"] for v in (best, mean))
 
 
 def _cpg_vf_max(r: Results):
-    v = {a: r.summary("forward-max", a)["final_eval_velocity_max"] for a in JT + CPG}
-    words = ", ".join(f"{analysis.display_name(a)} {v[a]:.2f}" for a in CPG) + "; slowest JT " + f"{min(v[a] for a in JT):.2f}"
-    best_cpg = all(v["cpg-vf"] >= v[a] for a in CPG)
-    return words, best_cpg and v["cpg-vf"] < min(v[a] for a in JT)
+    best, mean, words = _best_and_mean(r, CPG)
+    jt_best, jt_mean, _ = _best_and_mean(r, JT)
+    words += f"; slowest JT {min(jt_best.values()):.2f} / {min(jt_mean.values()):.2f}"
+    return words, all(v["cpg-vf"] >= max(v[a] for a in CPG) and v["cpg-vf"] < min(jt[a] for a in JT)
+                      for v, jt in ((best, jt_best), (mean, jt_mean)))
 
 
 def _lpf_falls_most(r: Results):
@@ -168,13 +177,15 @@ CLAIMS = (
           "VF ~5k, D ~10k, RT >10k", "CPG-VF reaches 90 % of 0.5 m/s no later than CPG-D and CPG-RT", _cpg_vf_fastest),
     Claim("jt-gait-order", "JT gait frequency NF > OEF > LPF", "Fig 5.4, §5.1.2", "NF ~6, OEF ~4, LPF ~2.5 Hz",
           "gait frequencies strictly in that order", _gait("forward", ("jt-nf", "jt-oef", "jt-lpf"))),
-    Claim("cpg-gait-order", "CPG-VF steps faster than CPG-D", "Fig 5.5, §5.1.2", "VF ~2.5, D 2 Hz",
+    Claim("cpg-gait-order", "CPG-VF steps faster than CPG-D", "Fig 5.4, §5.1.2", "VF ~2.5, D 2 Hz",
           "gait frequency CPG-VF > CPG-D", _gait("forward", ("cpg-vf", "cpg-d"))),
     Claim("jt-max-velocity", "Maximal velocity JT-NF > JT-OEF > JT-LPF", "Fig 5.6, Tables 6.1/6.2",
-          "NF 2.2, OEF 1.3, LPF 1.15 m/s", "best seed's final evaluation velocity strictly in that order",
+          "NF 2.2 (average 1.90), OEF 1.3, LPF 1.15 m/s",
+          "final evaluation velocity strictly in that order, of the best seeds and of the seeds' means",
           _max_velocity),
     Claim("cpg-vf-max", "CPG-VF is the fastest CPG, slower than every JT", "Fig 5.6, Tables 6.1/6.2",
-          "VF 0.75, D 0.55, RT 0.55; JT >= 1.15 m/s", "best-seed velocity: CPG-VF >= CPG-D, CPG-RT and < every JT",
+          "VF 0.75, D 0.55, RT 0.55 (averages); JT >= 1.15 m/s",
+          "CPG-VF >= CPG-D, CPG-RT and < every JT, of the best seeds and of the seeds' means",
           _cpg_vf_max),
     Claim("lpf-falls-most", "JT-LPF falls most at maximal velocity", "Fig 5.6, §5.1.3", "LPF ~30, NF ~9, OEF ~9",
           "mean falls JT-LPF > JT-NF and JT-OEF", _lpf_falls_most),

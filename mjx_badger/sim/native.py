@@ -5,9 +5,10 @@ reset and its own `begin_step` / `end_step` (action pipeline and delay; observat
 termination and task), and steps the physics with `mujoco.mj_step` as the env's control step does
 with `mjx.step`: the new targets after the action delay, joint velocities clipped where the
 protocol clips them. The Gymnasium env (gym_env.py) is a thin shell around it. Both engines
-report the same figures: the velocity along and across the command and the yaw rate, measured
-from the trunk's positions and heading over the run (a fall's reset starts a new stretch),
-falls, and the gait frequency of the foot contacts.
+report the same figures, from the trunk's positions and heading over the run (a fall's reset starts
+a new stretch): the velocity in the heading frame (as training measures it) and in the world along
+and across the command, the heading change and yaw rate, the path's verdict (a policy that circles
+walks fast in its own frame and gets nowhere), falls, and the gait frequency of the foot contacts.
 """
 
 import dataclasses
@@ -46,29 +47,82 @@ def _yaw(qpos) -> float:
     return float(np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)))
 
 
+TURNING_DEG = 30.0
+"""Heading change past the command's own (its yaw rate x the seconds) from which a path is 'turning': past the
+'good' yaw control of the real-world tables."""
+CIRCLING_DEG = 180.0
+"""From here on it is 'circling': it has walked at least half a circle, so its world displacement no longer shows
+how fast it walks."""
+DRIFTING_DEG = 15.0
+"""Its heading held, a path more than this off the command's direction is 'drifting' (sideways or at an angle)."""
+MOVING = 0.05
+"""m/s: below this in both frames a policy stands, and has no path to judge."""
+
+
+def path_verdict(command, heading_velocity, world_velocity, heading_change: float, seconds: float) -> tuple:
+    """('standing' | 'straight' | 'drifting' | 'turning' | 'circling', one sentence saying why) of a run that walked
+    `heading_velocity` in its heading frame and `world_velocity` along and across the command, its heading changing by
+    `heading_change` rad against the command's own yaw rate."""
+    unasked = np.degrees(abs(heading_change - command[2] * seconds))
+    along, across = world_velocity
+    heading_speed = float(np.linalg.norm(heading_velocity))
+    walked = (f"it walked {heading_speed:.2f} m/s in its heading frame and {along:.2f} m/s along the command, "
+              f"{across:.2f} across it")
+    if heading_speed < MOVING and np.hypot(along, across) < MOVING:
+        return "standing", f"standing: under {MOVING} m/s in both frames"
+    if unasked >= CIRCLING_DEG:
+        return "circling", f"circling: it turned {unasked:.0f} deg more than asked in {seconds:g} s; {walked}"
+    if unasked >= TURNING_DEG:
+        return "turning", f"turning: it turned {unasked:.0f} deg more than asked in {seconds:g} s; {walked}"
+    # Off the command's direction in its own frame (crabbing), or, where the command holds the heading, in the world.
+    asked = np.arctan2(command[1], command[0]) if np.any(command[:2]) else 0.0
+    crab = np.degrees(abs(np.angle(np.exp(1j * (np.arctan2(heading_velocity[1], heading_velocity[0]) - asked)))))
+    off = max(crab, np.degrees(abs(np.arctan2(across, along))) if command[2] == 0 else 0.0)
+    if off > DRIFTING_DEG:
+        return "drifting", f"drifting: its path runs {off:.0f} deg off the command; {walked}"
+    return "straight", f"straight: within {TURNING_DEG:g} deg of its heading and {DRIFTING_DEG:g} of the command"
+
+
 class _Track:
-    """Trunk positions and headings per control step, split into stretches at resets; contacts at the physics rate."""
+    """Trunk displacement per control step in the world and in the heading frame, split into stretches at resets;
+    contacts at the physics rate."""
 
     def __init__(self):
-        self.displacement, self.turn, self.contacts, self.falls = np.zeros(2), 0.0, [], 0
+        self.displacement, self.heading_displacement, self.turn = np.zeros(2), np.zeros(2), 0.0
+        self.contacts, self.falls = [], 0
         self.estimates = []
         """The robot's own velocity estimate (trunk frame, x and y) per control step, where the env senses."""
 
     def step(self, before, after, fell: bool):
         if not fell:  # a fall's reset moves the trunk back to the start: no displacement of its own
-            self.displacement += np.asarray(after[:2] - before[:2])
-            self.turn += np.angle(np.exp(1j * (_yaw(after) - _yaw(before))))
+            step = np.asarray(after[:2] - before[:2])
+            turned = np.angle(np.exp(1j * (_yaw(after) - _yaw(before))))
+            # Into the heading frame at the step's middle heading: forward and sideways as the body walked them.
+            middle = _yaw(before) + turned / 2
+            cos, sin = np.cos(middle), np.sin(middle)
+            self.heading_displacement += np.array([cos * step[0] + sin * step[1], -sin * step[0] + cos * step[1]])
+            self.displacement += step
+            self.turn += turned
         self.falls += int(fell)
 
     def summary(self, command, seconds: float, physics_dt: float) -> dict:
         direction = np.asarray(command[:2]) / max(np.linalg.norm(command[:2]), 1e-9)
         if not np.any(command[:2]):
             direction = np.array([1.0, 0.0])  # no command: report forward and sideways
-        velocity = self.displacement / seconds
+        across = np.array([-direction[1], direction[0]])
+        velocity, heading_velocity = self.displacement / seconds, self.heading_displacement / seconds
+        world = (float(velocity @ direction), float(velocity @ across))
+        path, why = path_verdict(command, heading_velocity, world, self.turn, seconds)
         report = {"seconds": seconds, "command": [float(c) for c in command],
-                  "velocity_along_command": float(velocity @ direction),
-                  "velocity_across_command": float(velocity @ np.array([-direction[1], direction[0]])),
-                  "yaw_rate": float(self.turn / seconds), "falls": self.falls,
+                  # As training measures it: the body's own forward and sideways speed, projected on the command
+                  # (a body-frame command), whatever the heading does.
+                  "heading_velocity_along_command": float(heading_velocity @ direction),
+                  "heading_velocity_across_command": float(heading_velocity @ across),
+                  "forward_velocity": float(heading_velocity[0]), "lateral_velocity": float(heading_velocity[1]),
+                  # Where it got to: the world displacement along and across the command's first direction.
+                  "velocity_along_command": world[0], "velocity_across_command": world[1],
+                  "heading_change_deg": float(np.degrees(self.turn)),
+                  "yaw_rate": float(self.turn / seconds), "path": path, "path_note": why, "falls": self.falls,
                   "gait_hz": gait_frequency(np.asarray(self.contacts), physics_dt)}
         if self.estimates:  # what the robot believed, beside what it walked (the thesis judged by video)
             report["estimated_velocity_along_command"] = float(np.mean(np.asarray(self.estimates) @ direction))

@@ -83,6 +83,10 @@ def test_averaging_all_four_legs_of_a_trot_underestimates_by_the_swing_legs_shar
     # No acceleration: the filter settles on its odometry, 0 for all four feet and v for the contact-aware variant.
     assert abs(all_feet[-1, 0]) < 1e-3
     assert stance_only[-1, 0] == pytest.approx(v, abs=1e-3)
+    # The study's family between them: trust 0.5 weighs stance feet 1 and swing feet 1/2, (2v - v) / 3.
+    half = _run(estimators.make("kinematic-kalman", estimators.KalmanConfig(contact_trust=0.5)),
+                [_reading(joint_velocity=joint_velocity, contacts=stance)] * 80)
+    assert half[-1, 0] == pytest.approx(v / 3, abs=1e-3)
 
 
 def test_the_estimators_vmap_over_robots():

@@ -70,6 +70,8 @@ def test_runner_writes_a_results_file_and_a_figure(tmp_path, train_fns):
     native_run = json.loads(report.read_text())
     assert native_run["engine"] == "native" and native_run["seed"] == 1 and native_run["command"] == [0.5, 0.0, 0.0]
     assert np.isfinite(native_run["velocity_along_command"]) and native_run["seconds"] == 2.0
+    assert np.isfinite(native_run["forward_velocity"]) and native_run["path"] in ("standing", "straight", "drifting",
+                                                                               "turning", "circling")
     assert 0 <= native_run["falls"] <= 2 * 50 and isinstance(native_run["falls"], int)  # at most one per step
     # The same policy tested under the office's conditions: the robot's senses and its estimate (a sim run has none).
     assert "estimated_velocity_along_command" not in native_run and native_run["conditions"] == "sim"

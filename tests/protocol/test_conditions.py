@@ -57,3 +57,27 @@ def test_the_robots_cpg_settings_out_of_reach_are_refused_naming_the_range():
     with pytest.raises(ValueError, match=r"cpg_frequency_hz 6 is not in \[0.5, 4\] Hz"):
         TrainConfig(approach="cpg-d", conditions="office", condition_changes=(("cpg_frequency_hz", 6.0),))
     TrainConfig(approach="cpg-d", conditions="office", condition_changes=(("cpg_swing_height_m", None),))
+
+
+def test_a_results_file_from_before_a_condition_field_rebuilds_the_run_as_it_ran():
+    """The committed quick office CPG-D run swung 0.15 m at 2 Hz with every foot alike in its filter: rebuilt so."""
+    from pathlib import Path
+
+    from mjx_badger.learning.config import from_results
+    from mjx_badger.records import results
+    path = Path(__file__).resolve().parents[2] / "figures/data/quick/thesis-code/real-office/cpg-d_crossq_forward.json"
+    document = results.read(path)
+    assert "cpg_swing_height_m" not in document["config"]["env"]["conditions"]  # written before the field
+    rebuilt = from_results(document).conditions_spec
+    assert (rebuilt.cpg_swing_height_m, rebuilt.cpg_frequency_hz, rebuilt.robot_cpg_residual) == (None, None, False)
+    assert rebuilt.stop_on_sensed and rebuilt.sensing.kalman.contact_trust == 0.0
+    assert conditions.OFFICE.cpg_swing_height_m == 0.2  # today's office, for a new run
+
+
+def test_the_estimators_contact_trust_is_a_condition_field_in_its_range():
+    office = TrainConfig(conditions="office", condition_changes=(("kalman.contact_trust", 0.5),))
+    assert office.conditions_spec.sensing.kalman.contact_trust == 0.5
+    with pytest.raises(ValueError, match=r"kalman.contact_trust must be a finite number in \[0, 1\], not 1.5"):
+        TrainConfig(conditions="office", condition_changes=(("kalman.contact_trust", 1.5),))
+    with pytest.raises(ValueError, match="kalman.\\* sets the estimator's noise, and these conditions sense nothing"):
+        TrainConfig(condition_changes=(("kalman.contact_trust", 0.5),))

@@ -94,3 +94,17 @@ def test_a_diverged_seed_is_left_out_of_the_claims_and_named(tmp_path):
     assert results.healthy(simulation_document(0.5, 1.0))["seeds"] == [0, 1]  # nothing diverged: unchanged
 
 
+
+
+def test_maximal_velocity_is_scored_on_the_best_seed_and_on_the_seeds_mean_as_the_thesis_gives_both(tmp_path):
+    """§5.1.3 gives JT-NF's best 2.2 beside its average 1.90 and the CPGs' averages: an order must hold on both."""
+    folder = tmp_path / "quick" / "thesis-code"
+    speeds = {"jt-nf": (1.6, 0.2), "jt-oef": (1.0, 0.9), "jt-lpf": (0.9, 0.8),  # NF's best leads, its mean trails
+              "cpg-d": (0.5, 0.5), "cpg-vf": (0.7, 0.6), "cpg-rt": (0.5, 0.4)}
+    for name, (best, other) in speeds.items():
+        document = simulation_document(0.5, 0.0)
+        document["metrics"]["eval/desired_velocity"] = [[best, other]] * len(document["steps"])
+        write_run(folder, "forward-max", name, document)
+    board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}
+    assert board["jt-max-velocity"].holds is False and "JT-NF 1.60 / 0.90" in board["jt-max-velocity"].ours
+    assert board["cpg-vf-max"].holds is True and "CPG-VF 0.70 / 0.65" in board["cpg-vf-max"].ours

@@ -91,3 +91,35 @@ def test_native_evaluation_reports_the_estimate_beside_the_true_speed():
     assert "estimated_velocity_along_command" not in native.run_native(
         native.evaluation_env(TrainConfig(approach="cpg-d"), 1.0), lambda obs: np.zeros(env.action_size),
         [0.25, 0.0, 0.0], 1.0)
+
+
+def _walked(step_turn: float, step_forward: float, step_sideways: float = 0.0, steps: int = 800):
+    """A track of `steps` control steps, each moving the trunk `step_forward`, `step_sideways` m in its heading frame
+    and turning it `step_turn` rad."""
+    track, yaw, position = native._Track(), 0.0, np.zeros(2)
+    pose = lambda p, y: np.array([p[0], p[1], 0.3, np.cos(y / 2), 0.0, 0.0, np.sin(y / 2)])
+    for _ in range(steps):
+        middle = yaw + step_turn / 2
+        after = position + step_forward * np.array([np.cos(middle), np.sin(middle)]) \
+            + step_sideways * np.array([-np.sin(middle), np.cos(middle)])
+        track.step(pose(position, yaw), pose(after, yaw + step_turn), fell=False)
+        position, yaw = after, yaw + step_turn
+    return track.summary(np.array([1.0, 0.0, 0.0]), steps * 0.025, 0.005)
+
+
+def test_an_evaluation_names_a_policy_that_walks_in_circles_and_measures_it_in_its_own_frame_too():
+    """The committed JT-NF max-velocity policy's case: 1.25 m/s in its own frame, turning 0.2 rad/s, over 20 s."""
+    circling = _walked(0.2 * 0.025, 1.25 * 0.025)
+    assert circling["path"] == "circling" and "circling" in circling["path_note"]
+    assert circling["forward_velocity"] == pytest.approx(1.25, rel=1e-6)
+    assert circling["heading_velocity_along_command"] == pytest.approx(1.25, rel=1e-6)
+    assert abs(circling["velocity_along_command"]) < 0.5  # in the world it got nowhere near 25 m
+    assert circling["heading_change_deg"] == pytest.approx(np.degrees(4.0), rel=1e-6)
+    straight = _walked(0.0, 0.5 * 0.025)
+    assert straight["path"] == "straight" and straight["velocity_along_command"] == pytest.approx(0.5)
+    assert _walked(0.001, 0.5 * 0.025)["path"] == "turning"  # 46 deg over 20 s
+    crab = _walked(0.0, 0.4 * 0.025, 0.2 * 0.025)
+    assert crab["path"] == "drifting" and crab["lateral_velocity"] == pytest.approx(0.2)
+    assert _walked(0.0, 0.001 * 0.025)["path"] == "standing"
+    # A turn that was asked for is no circling: 0.2 rad/s commanded, 0.2 walked.
+    assert native.path_verdict([1.0, 0.0, 0.2], (1.0, 0.0), (0.1, 0.1), 4.0, 20.0)[0] == "straight"

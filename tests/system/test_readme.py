@@ -25,5 +25,6 @@ def test_the_python_example_builds_an_env_trains_a_tiny_run_and_evaluates_it(tmp
         exec(compile(example, "README.md", "exec"), {})
     sizes, report = printed.getvalue().splitlines()[0], printed.getvalue().splitlines()[-1]
     assert sizes == "54 12" and (tmp_path / "results" / "tiny" / "jt-oef.json").is_file()
-    assert report.startswith("{'seconds': 1.0, 'command': [0.5, 0.0, 0.0], 'velocity_along_command': ")
+    assert report.startswith("{'seconds': 1.0, 'command': [0.5, 0.0, 0.0], 'heading_velocity_along_command': ")
+    assert "'path': " in report
     assert "'engine': 'native', 'seed': 0, 'conditions': 'sim'}" in report
