@@ -30,11 +30,38 @@ RELATIVE, ABSOLUTE = 0.20, 0.05
 """A difference is explained when it exceeds both: 20 % of training's figure and 0.05 m/s (below which a policy stands)."""
 
 
-def training_eval(document: dict, seed: int, command_name: str) -> float:
-    """The run's final evaluation speed along the command (training's measure) for `seed`."""
+def training_eval(document: dict, seed: int, command_name: str) -> tuple[float, float]:
+    """The run's evaluation speed along the command (training's measure) for `seed`: over its final chunks (the
+    figure its tables give) and in its last chunk alone (the policy that was saved)."""
     name = f"eval/{command_name}/desired_velocity"
     name = name if name in document["metrics"] else "eval/desired_velocity"
-    return float(analysis.final(document, name)[document["seeds"].index(seed)])
+    index = document["seeds"].index(seed)
+    return float(analysis.final(document, name)[index]), float(analysis.series(document, name)[-1, index])
+
+
+def why(row: dict) -> str:
+    """Which of the known causes a difference from training's final evaluation has, from the row's own runs."""
+    ours, final, last = row["heading_velocity_along_command"], row["training_eval"], row["training_eval_last"]
+    if not differs(ours, final):
+        return "agrees"
+    if not differs(ours, last):
+        return "the policy changed over the final chunks: it agrees with the last chunk's evaluation"
+    mjx, native = row.get("mjx_at_training_length"), row.get("native_at_training_length")
+    if mjx and not differs(mjx["heading_velocity_along_command"], last) and differs(
+            native["heading_velocity_along_command"], last):
+        return (f"the engine: MJX at training's length agrees ({mjx['heading_velocity_along_command']:.2f} m/s, "
+                f"{mjx['falls']} falls), native MuJoCo does not ({native['heading_velocity_along_command']:.2f} m/s, "
+                f"{native['falls']} falls)")
+    if native and not differs(native["heading_velocity_along_command"], last):
+        return "the length: over training's evaluation length native MuJoCo agrees"
+    return "unexplained by the policy's last chunk, the engine or the length"
+
+
+def _eval_name(document: dict, row: dict) -> str:
+    """The evaluation metric training measured `row`'s command by."""
+    config = from_results(document)
+    name = f"eval/{next(iter(config.make_task().eval_commands))}/desired_velocity"
+    return name if name in document["metrics"] else "eval/desired_velocity"
 
 
 def differs(ours: float, theirs: float) -> bool:
@@ -49,7 +76,8 @@ def reevaluate(results_file: Path) -> dict:
     command_name = next(iter(env.task.eval_commands))
     train_seconds = config.eval_steps * env.control_dt
     report = saved_run.evaluate(results_file, actor.seed, SECONDS)
-    row = {"seed": actor.seed, "command": command, "training_eval": training_eval(document, actor.seed, command_name),
+    final, last = training_eval(document, actor.seed, command_name)
+    row = {"seed": actor.seed, "command": command, "training_eval": final, "training_eval_last": last,
            "training_eval_seconds": train_seconds, "conditions": report["conditions"],
            **{k: report[k] for k in ("heading_velocity_along_command", "velocity_along_command", "heading_change_deg",
                                      "path", "path_note", "falls")}}
@@ -84,6 +112,12 @@ def main():
         print(f"{key}: training {row['training_eval']:.2f}, heading frame {row['heading_velocity_along_command']:.2f}, "
               f"world {row['velocity_along_command']:.2f} m/s, {row['path']}", flush=True)
         safe_io.write_text(args.json, json.dumps({**document, "policies": rows}, indent=1) + "\n")  # resumable
+    for key, row in rows.items():  # rows kept from before this field: from their results files, no rerun
+        if "training_eval_last" not in row:
+            document_ = results.read(DATA / key)
+            row["training_eval_last"] = float(analysis.series(document_, _eval_name(document_, row))[-1, document_[
+                "seeds"].index(row["seed"])])
+        row["why"] = why(row)
     document["policies"] = dict(sorted(rows.items()))
     document["over_20_percent"] = [k for k, r in document["policies"].items()
                                    if differs(r["heading_velocity_along_command"], r["training_eval"])]

@@ -2,17 +2,19 @@
 into a reference folder, and `attribute` its claims to the departures of the text from the code."""
 
 import dataclasses
+import json
 import sys
 from pathlib import Path
 from typing import Annotated, Optional
 
 from mjx_badger.cli.common import Cluster, ExperimentName, Flat, Profile, ProtocolName, check_seed_devices
-from mjx_badger.core.validation import writable_dir, writable_file
+from mjx_badger.core import safe_io
+from mjx_badger.core.validation import number, writable_dir, writable_file
 from mjx_badger.experiments.registry import EXPERIMENTS, GROUPS, PROFILES, expand
 from mjx_badger.learning import memory
 from mjx_badger.outputs import plots, publish
 from mjx_badger.pipelines import reproduce, scoreboards
-from mjx_badger.scoring import attribution
+from mjx_badger.scoring import attribution, estimate_gain
 
 
 @dataclasses.dataclass(frozen=True)
@@ -186,4 +188,41 @@ class Attribute:
     def __call__(self) -> int:
         for table in attribution.run(self.results_dir, self.only):
             print(table)
+        return 0
+
+
+@dataclasses.dataclass(frozen=True)
+class EstimateGain:
+    """The real-world experiments along one family of estimate quality (kalman.contact_trust), each finding scored
+    at the gain it produces (docs/real-world.md)."""
+
+    profile: Profile = "quick"
+    """The profile of the runs (the family's value 0 is that profile's own real-world runs)."""
+    protocol: ProtocolName = "thesis-code"
+    results_dir: Path = Path("results")
+    """Where the runs are written (<results-dir>/estimate-gain/<profile>/<protocol>/contact-trust-<v>/)."""
+    values: tuple[float, ...] = estimate_gain.VALUES
+    """The family's values, each in [0, 1]."""
+    train: bool = True
+    """Train what is missing first (--no-train: score what is there)."""
+    json: Optional[Path] = None
+    """Also write the per-value gains, findings and speeds here."""
+
+    def check(self) -> None:
+        for value in self.values:
+            number("--values entry", value, 0.0, 1.0)
+        writable_dir(self.results_dir, "results folder")
+        if self.json is not None:
+            writable_file(self.json, "--json")
+
+    def __call__(self) -> int:
+        if self.train:
+            estimate_gain.run(self.results_dir, self.profile, self.protocol, self.values)
+        rows = estimate_gain.score(self.results_dir, self.profile, self.protocol, self.values)
+        for row in rows:
+            gain = "no moments" if row["gain"] is None else f"slope {row['gain']['slope']:.2f}"
+            held = [k for k, f in row["findings"].items() if f["holds"]]
+            print(f"contact_trust {row['value']:g}: {gain}; holds: {', '.join(held) or 'none'}")
+        if self.json:
+            safe_io.write_text(self.json, json.dumps(rows, indent=1) + "\n")
         return 0

@@ -19,7 +19,7 @@ import tyro
 from mjx_badger.agents.config import ALGORITHMS
 from mjx_badger.cli.common import DESCRIPTION
 from mjx_badger.cli.estimator import Estimator
-from mjx_badger.cli.experiments import Attribute, Claims, Figures, Publish, Reproduce
+from mjx_badger.cli.experiments import Attribute, Claims, EstimateGain, Figures, Publish, Reproduce
 from mjx_badger.cli.robot import LinkKeys, Realtime, RobotServer
 from mjx_badger.cli.saved_runs import Evaluate, Export, Render
 from mjx_badger.cli.training import Sweep, Train
@@ -58,7 +58,7 @@ class List:
 
 
 COMMANDS = {"train": Train, "sweep": Sweep, "reproduce": Reproduce, "figures": Figures, "claims": Claims,
-            "publish": Publish, "attribute": Attribute, "realtime": Realtime, "robot-server": RobotServer,
+            "publish": Publish, "attribute": Attribute, "estimate-gain": EstimateGain, "realtime": Realtime, "robot-server": RobotServer,
             "link-keys": LinkKeys, "evaluate": Evaluate, "render": Render, "export": Export,
             "estimator": Estimator, "list": List}
 
