@@ -79,9 +79,8 @@ class HB40Env(Observing, Terminating, Env):
         self.terminates = self.protocol.cpg_terminates or not self.is_cpg
         self.conditions = self.config.conditions or SIM
         self.conditions.validate()
-        # The CPG as the robot of the conditions runs it (its swing, its frequency, CPG-RT's mix).
         self.action_space = actions.make_action_space(approach, self.control_dt, self.protocol, spec,
-                                                      self.conditions, **dict(approach_params))
+                                                      self.conditions, **dict(approach_params))  # as on its robot
         if isinstance(task, str):
             task = tasks.make_task(task, self.protocol.rewards, self.protocol.curriculum)
         self.task = task
@@ -148,8 +147,7 @@ class HB40Env(Observing, Terminating, Env):
             "task_state": task_state,
             "falls": jnp.int32(0),
             "would_falls": jnp.int32(0),
-            **({"stops_before_fall": jnp.int32(0), "premature_stops": jnp.int32(0)} if self.conditions.safety_stop
-               else {}),
+            **self.stop_counts(),
             "blowups": jnp.int32(0),
             "blew_up": jnp.bool_(False),
             "fallen": jnp.bool_(False),
@@ -232,11 +230,6 @@ class HB40Env(Observing, Terminating, Env):
         fallen, terminated, truncated = self._terminate(info, data, motion, senses, power_steps, finite)
         done = terminated | truncated
         metrics = self._metrics(state.metrics, data, motion, command, contributions, task_state, senses)
-        stops = {}
-        if self.conditions.safety_stop:  # §6.4: how many of the robot's stops came before any fall
-            before, premature = self.stop_kinds(data, fallen)
-            stops = {"stops_before_fall": info["stops_before_fall"] + before.astype(jnp.int32),
-                     "premature_stops": info["premature_stops"] + premature.astype(jnp.int32)}
         info = dict(
             info,
             rng=key,
@@ -256,7 +249,7 @@ class HB40Env(Observing, Terminating, Env):
             truncated=truncated,
             next_obs=obs,
             **senses,
-            **stops,
+            **self.stop_counts(info, data, fallen),  # §6.4: the robot's stops that came before any fall
         )
         return State(data, obs, reward, done.astype(jnp.float32), metrics, info)
 

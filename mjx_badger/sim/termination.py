@@ -41,6 +41,17 @@ class Terminating:
         truncated = (info["step"] + 1 >= self.episode_steps) & ~terminated
         return fallen, terminated, truncated
 
+    def stop_counts(self, info=None, data=None, fallen=None) -> dict:
+        """The running counts of `stop_kinds` in an episode's info under the robot's own stop (none without it): zeros
+        with no arguments (a reset), else `info`'s counts with this step's stop `fallen` added."""
+        if not self.conditions.safety_stop:
+            return {}
+        if info is None:
+            return {"stops_before_fall": jnp.int32(0), "premature_stops": jnp.int32(0)}
+        before, premature = self.stop_kinds(data, fallen)
+        return {"stops_before_fall": info["stops_before_fall"] + before.astype(jnp.int32),
+                "premature_stops": info["premature_stops"] + premature.astype(jnp.int32)}
+
     def stop_kinds(self, data, fallen):
         """(before a fall, premature) of a safety stop `fallen`: the truth shows no fall yet (no tilt past the fall tilt,
         the trunk above the fall height: the tilt-height rule), and the same rule on the truth would not have stopped."""
