@@ -4,6 +4,8 @@ figures of curves.py and overview.py, the tables of tables.py, and what they wer
 import json
 from pathlib import Path
 
+import numpy as np
+
 from mjx_badger.core import safe_io
 from mjx_badger.experiments.registry import EXPERIMENTS, GROUPS, Experiment, load_experiment
 from mjx_badger.outputs import drawn, real_world
@@ -12,7 +14,7 @@ from mjx_badger.outputs.overview import overview_figure
 from mjx_badger.outputs.tables import TABLES, released_code_table
 from mjx_badger.realtime.report import SCHEMA as LOOP_SCHEMA
 from mjx_badger.records.analysis import released_code
-from mjx_badger.records.real_world import LOOP_FOLDER
+from mjx_badger.records.real_world import LOOP_FOLDERS
 
 
 def experiment_files(experiment: Experiment, figures_dir: Path, profile: str) -> list[Path]:
@@ -74,12 +76,25 @@ def draw(results_dir: Path, figures_dir: Path, profile: str, names=None, protoco
                            "simulation at maximal velocity, office and outdoor at the 0.25 m/s target.\n\n"
                            + real_world.table_6(loaded["forward-max"], loaded["real-office"], loaded["real-outdoor"]))
         written.append(path)
-    loop = load_loop(Path(results_dir).parent.parent.joinpath(*LOOP_FOLDER))
-    if loop and loaded["real-outdoor"]:
-        path = figures_dir / f"real-outdoor_loop_{profile}.md"
-        safe_io.write_text(path, f"Profile: {profile}. The on-robot loop (`realtime --conditions outdoor`, one run, 40 Hz "
-                           "wall-clock) beside the vmapped real-outdoor runs of the same approach.\n\n"
-                           + real_world.loop_table(loop, loaded["real-outdoor"]))
+    loops = {}
+    for experiment, folder in LOOP_FOLDERS.items():
+        where = Path(results_dir).parent.parent.joinpath(*folder)
+        loop = load_loop(where)
+        if loop:
+            loops[folder[-1]] = {approach: (document, load_trace(where, document)) for approach, document in loop.items()}
+        if loop and loaded[experiment]:
+            path = figures_dir / f"{experiment}_loop_{profile}.md"
+            safe_io.write_text(path, f"Profile: {profile}. The on-robot loop (`realtime --conditions {folder[-1]}`, "
+                               f"one run, wall-clock) beside the vmapped {experiment} runs of the same approach.\n\n"
+                               + real_world.loop_table(loop, loaded[experiment]))
+            written.append(path)
+    if loops:
+        # The loop's runs are one protocol's (thesis-text) whichever protocol is drawn: one file for all of them.
+        written.append(real_world.milestones_figure(loops, figures_dir.parent / "realtime" / "milestones.png"))
+        path = figures_dir.parent / "realtime" / "milestones.md"
+        safe_io.write_text(path, "The on-robot loop's wall clock (`realtime`, one run each), minutes as training / with "
+                           "resets, the thesis's (§5.2, resets included) in brackets; docs/real-world.md explains the "
+                           "milestones.\n\n" + real_world.milestones_table(loops))
         written.append(path)
     return written
 
@@ -93,3 +108,9 @@ def load_loop(folder: Path) -> dict:
             raise ValueError(f"{path}: not a {LOOP_SCHEMA} results file (realtime's)")
         runs[document["config"]["approach"]] = document
     return runs
+
+
+def load_trace(folder: Path, document: dict) -> np.ndarray:
+    """The per-step trace saved beside an on-robot run's results file."""
+    config = document["config"]
+    return np.load(folder / f"{config['approach']}_{config['algo']}_{config['task']}.trace.npy")

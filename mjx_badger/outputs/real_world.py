@@ -4,6 +4,8 @@ vmapped runs, and the figure of true against estimated velocity (numbers from re
 import numpy as np
 
 from mjx_badger.outputs.style import plt, save
+from mjx_badger.protocol.conditions import get as get_conditions
+from mjx_badger.records import milestones
 from mjx_badger.records.analysis import display_color, display_name, final, series
 from mjx_badger.records.real_world import loop_summary, summary
 
@@ -101,4 +103,54 @@ def figure(experiment, documents: dict, out, label: str):
     axes[2].legend(fontsize=7)
     fig.suptitle(f"{experiment.name} ({experiment.thesis_figure}), {experiment.conditions} conditions; {label}",
                  fontsize=11)
+    return save(fig, out)
+
+
+def _minutes(ours, thesis) -> str:
+    """'train / with resets (thesis)' for one milestone."""
+    mine = "not reached" if ours is None else f"{ours[0]:.1f} / {ours[1]:.1f}"
+    return f"{mine} ({'-' if thesis is None else f'{thesis:g}'})"
+
+
+def milestones_table(loops: dict) -> str:
+    """Markdown: per conditions and approach, the on-robot run's milestones beside the thesis's (§5.2)."""
+    lines = ["| conditions | approach | steps | falls | first steps: min (thesis) | bigger steps | peak | peak m/s "
+             "(30 s) | evaluation: true m/s, best 1 s | thesis: policy in simulation m/s |", "|---" * 10 + "|"]
+    for conditions, runs in loops.items():
+        for approach, (document, trace) in runs.items():
+            ours = milestones.milestones(trace, get_conditions(conditions).reset_seconds)
+            thesis = milestones.THESIS.get(conditions, {}).get(approach, {})
+            evaluation = document.get("evaluation") or {}
+            true, best = evaluation.get("true_velocity"), evaluation.get("true_peak_1s")
+            words = "-" if true is None else f"{true:.2f}, {'-' if best is None else f'{best:.2f}'}"
+            lines.append(f"| {conditions} | {display_name(approach)} | {document['steps']:,} | {document['falls']} "
+                         + "".join(f"| {_minutes(ours[key], thesis.get(key))} " for key in ("first", "bigger", "peak"))
+                         + f"| {ours['peak_velocity']:.2f} | {words} | {thesis.get('sim') or '-'} |")
+    return "\n".join(lines) + "\n"
+
+
+def milestones_figure(loops: dict, out):
+    """Per conditions, each run's 30 s mean true velocity over session minutes, its milestones and the thesis's."""
+    fig, axes = plt.subplots(1, len(loops), figsize=(7 * len(loops), 4.3), constrained_layout=True, squeeze=False)
+    for ax, (conditions, runs) in zip(axes[0], loops.items()):
+        reset = get_conditions(conditions).reset_seconds
+        for approach, (_, trace) in runs.items():
+            color = display_color(approach)
+            seconds, speed = milestones.windowed_speed(trace)
+            ax.plot(milestones.with_resets(trace, seconds, reset), speed, color=color, label=display_name(approach))
+            ours = milestones.milestones(trace, reset)
+            for key, marker in (("first", "o"), ("bigger", "s"), ("peak", "*")):
+                if ours[key] is not None:
+                    ax.plot(ours[key][1], np.interp(ours[key][0] * 60, seconds, speed), marker, color=color, ms=7)
+                thesis = milestones.THESIS.get(conditions, {}).get(approach, {}).get(key)
+                if thesis is not None:
+                    ax.plot(thesis, -0.04, marker, color=color, ms=7, mfc="none")
+        for level in (milestones.FIRST_STEPS, milestones.BIGGER_STEPS):
+            ax.axhline(level, color="k", ls=":", lw=0.8)
+        ax.set_title(f"{conditions}: filled ours, hollow (at the bottom) the thesis's; o first steps, "
+                     "square bigger, * peak", fontsize=9)
+        ax.set_xlabel("minutes into the session (resets included)")
+        ax.set_ylabel("true forward velocity, 30 s mean [m/s]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
     return save(fig, out)

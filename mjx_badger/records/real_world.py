@@ -47,8 +47,9 @@ def summary(document: dict) -> dict:
             "minutes": float(np.mean(minutes)), "eval_seconds": eval_seconds}
 
 
-LOOP_FOLDER = ("realtime", "outdoor")
-"""Where, beside a results folder's profiles, `realtime --conditions outdoor` runs are looked for: results/realtime/outdoor."""
+LOOP_FOLDERS = {"real-office": ("realtime", "office"), "real-outdoor": ("realtime", "outdoor")}
+"""Where, beside a results folder's profiles, `realtime --conditions <office|outdoor>` runs are looked for, by the
+vmapped experiment they sit beside: results/realtime/office and results/realtime/outdoor."""
 
 
 def loop_summary(document: dict) -> dict:
