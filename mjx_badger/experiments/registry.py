@@ -161,14 +161,14 @@ EXPERIMENTS = {
         thesis_figure="Figs 5.3-5.5",
         runs=tuple(Run(a, "crossq", "forward") for a in THESIS_APPROACHES),
         # Thesis §5.1.2: steps to converge to 0.5 m/s ("more than 10k" for CPG-RT), mean falls over
-        # 50k steps, gait frequency after training.
+        # 50k steps, gait frequency after training and the gait Fig 5.4 shows.
         thesis_numbers={
             "jt-nf": {"steps_to_target": 5_000, "falls": 13, "gait_hz": 6.0},
-            "jt-lpf": {"steps_to_target": 10_000, "falls": 7, "gait_hz": 2.5},
-            "jt-oef": {"steps_to_target": 5_000, "falls": 7, "gait_hz": 4.0},
-            "cpg-d": {"steps_to_target": 10_000, "falls": 0, "gait_hz": 2.0},
-            "cpg-vf": {"steps_to_target": 5_000, "falls": 0, "gait_hz": 2.5},
-            "cpg-rt": {"steps_to_target": ">10k", "falls": 0, "gait_hz": 2.0},
+            "jt-lpf": {"steps_to_target": 10_000, "falls": 7, "gait_hz": 2.5, "gait": "trot"},
+            "jt-oef": {"steps_to_target": 5_000, "falls": 7, "gait_hz": 4.0, "gait": "trot"},
+            "cpg-d": {"steps_to_target": 10_000, "falls": 0, "gait_hz": 2.0, "gait": "trot"},
+            "cpg-vf": {"steps_to_target": 5_000, "falls": 0, "gait_hz": 2.5, "gait": "trot"},
+            "cpg-rt": {"steps_to_target": ">10k", "falls": 0, "gait_hz": 2.0, "gait": "trot"},
         },
     ),
     "forward-max": Experiment(
@@ -176,14 +176,14 @@ EXPERIMENTS = {
         thesis_figure="Figs 5.6-5.8, Tables 6.1/6.2",
         runs=tuple(Run(a, "crossq", "forward-max") for a in THESIS_APPROACHES),
         # Thesis §5.1.3 and Tables 6.1/6.2 (simulation column): maximal forward velocity (m/s),
-        # mean falls over 50k steps, gait frequency.
+        # mean falls over 50k steps, gait frequency, and the gait of Fig 5.7 (§5.1.3).
         thesis_numbers={
-            "jt-nf": {"max_velocity": 2.2, "falls": 9, "gait_hz": 4.0},
-            "jt-lpf": {"max_velocity": 1.15, "falls": 30},
-            "jt-oef": {"max_velocity": 1.3, "falls": 9},
-            "cpg-d": {"max_velocity": 0.55, "falls": 0, "gait_hz": 2.0},
-            "cpg-vf": {"max_velocity": 0.75, "falls": 0, "gait_hz": 2.5},
-            "cpg-rt": {"max_velocity": 0.55, "falls": 0, "gait_hz": 2.0},
+            "jt-nf": {"max_velocity": 2.2, "falls": 9, "gait_hz": 4.0, "gait": "trot"},
+            "jt-lpf": {"max_velocity": 1.15, "falls": 30, "gait": "gallop"},
+            "jt-oef": {"max_velocity": 1.3, "falls": 9, "gait": "gallop"},
+            "cpg-d": {"max_velocity": 0.55, "falls": 0, "gait_hz": 2.0, "gait": "trot"},
+            "cpg-vf": {"max_velocity": 0.75, "falls": 0, "gait_hz": 2.5, "gait": "trot"},
+            "cpg-rt": {"max_velocity": 0.55, "falls": 0, "gait_hz": 2.0, "gait": "trot"},
         },
         target_velocity=None,
         figures=("forward-max", "gait"),

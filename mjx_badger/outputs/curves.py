@@ -9,9 +9,9 @@ import numpy as np
 from mjx_badger.experiments.registry import Experiment
 from mjx_badger.outputs import real_world
 from mjx_badger.outputs.style import curve_panel, plt, save, seeds_note
-from mjx_badger.records.analysis import DIRECTIONS, display_color, display_name
+from mjx_badger.records.analysis import DIRECTIONS, display_color, display_name, summarize
 from mjx_badger.robot.description import ROBOTS
-from mjx_badger.sim.gait import gait_frequency
+from mjx_badger.sim.gait import gait_frequency, gait_name
 
 
 def learning_curves(experiment: Experiment, documents: dict, out: Path, profile: str, x_axis: str,
@@ -46,9 +46,13 @@ def gait_figure(experiment: Experiment, documents: dict, out: Path, profile: str
             contact_ax.fill_between(t, leg - 0.4, leg + 0.4, where=on, color=display_color(label), step="post", lw=0)
         contact_ax.set_yticks(range(len(legs)), legs)
         contact_ax.set_ylim(len(legs) - 0.4, -0.6)
-        thesis_hz = experiment.thesis_numbers.get(label, {}).get("gait_hz")
-        contact_ax.set_title(f"{display_name(label)}: gait {gait_frequency(contacts, dt):.1f} Hz"
-                             + (f" (thesis ~{thesis_hz} Hz)" if thesis_hz else ""), fontsize=9, loc="left")
+        thesis = experiment.thesis_numbers.get(label, {})
+        thesis_words = " ".join(w for w in (thesis.get("gait"), thesis.get("gait_hz") and f"~{thesis['gait_hz']} Hz") if w)
+        seeds = ", ".join(f"{name} {n}" for name, n in summarize(document, None)["gait_counts"].items())
+        whole = gait["contacts"][0]  # the frequency and the gait from the whole record: one second holds few cycles
+        contact_ax.set_title(f"{display_name(label)}: {gait_name(whole, dt)} at {gait_frequency(whole, dt):.1f} Hz" + (f" (thesis {thesis_words})" if thesis_words
+                                                                          else "") + f"; seeds: {seeds}",
+                             fontsize=9, loc="left")
         velocity = np.asarray(gait["forward_velocity"][0])[-window:]
         velocity_ax.plot(t, velocity, color=display_color(label), lw=1.2)
         if target is not None:
@@ -59,8 +63,8 @@ def gait_figure(experiment: Experiment, documents: dict, out: Path, profile: str
     axes[-1, 0].set_xlabel("time [s] (stance shaded)")
     axes[-1, 1].set_xlabel("time [s]" + ("" if target is None else f" (below {target} m/s shaded red)"))
     fig.suptitle(f"{experiment.name}: gait and forward velocity over one second after training, deterministic "
-                 f"policy, first kept seed ({profile}; {seeds_note(documents)}); thesis {experiment.thesis_figure}",
-                 fontsize=10)
+                 f"policy, first kept seed ({profile}; {seeds_note(documents)})\nthesis {experiment.thesis_figure}; "
+                 "gaits named from the feet's phases over the whole record (sim/gait.py)", fontsize=10)
     return save(fig, out)
 
 

@@ -5,7 +5,7 @@ import numpy as np
 
 from mjx_badger.outputs.style import plt, save
 from mjx_badger.protocol.conditions import get as get_conditions
-from mjx_badger.records import milestones
+from mjx_badger.realtime import milestones
 from mjx_badger.records.analysis import display_color, display_name, final, series
 from mjx_badger.records.real_world import loop_summary, summary
 

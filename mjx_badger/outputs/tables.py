@@ -25,7 +25,9 @@ def _falls_cell(s: dict, thesis: dict) -> str:
 
 
 def _gait_cell(s: dict, thesis: dict) -> str:
-    return f"{_value(s['gait_hz'], '{:.1f}')} / {_thesis(thesis, 'gait_hz')}"
+    """'Hz gait / thesis Hz gait': the seeds' mean frequency and most common gait (sim/gait.py)."""
+    ours = _value(s["gait_hz"], "{:.1f}") + (f" {s['gait']}" if s.get("gait") else "")
+    return f"{ours} / {_thesis(thesis, 'gait_hz')}" + (f" {thesis['gait']}" if "gait" in thesis else "")
 
 
 def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> str:
@@ -37,7 +39,7 @@ def comparison_table(experiment: Experiment, documents: dict, x_axis: str) -> st
         f"| {'minutes' if by_minutes else 'steps'} to 90 % of {experiment.target_velocity} m/s (ours / thesis) "
         "| final train velocity "
         "| final eval velocity | falls mean [min-max] (ours / thesis, 50k steps) | of which after warm-up "
-        "| gait Hz (ours / thesis) |",
+        "| gait Hz and kind (ours / thesis) |",
         "|---|---|---|---|---|---|---|---|",
     ]
     unit, fmt = ("minutes_to_target", "{:.1f}") if by_minutes else ("steps_to_target", "{:,}")
@@ -68,7 +70,7 @@ def max_velocity_table(experiment: Experiment, documents: dict, x_axis: str) -> 
     """Tables 6.1/6.2 (simulation column) with our maximal velocities beside the thesis's."""
     columns = ["max velocity, thesis (m/s)", "ours: final train velocity mean [best seed]",
                "ours: final eval velocity mean [best seed]", "falls mean [min-max] (ours / thesis)",
-               "gait Hz (ours / thesis)"]
+               "gait Hz and kind (ours / thesis)"]
     return _per_run(experiment, documents, columns, lambda document, s, thesis: (
         f"{_thesis(thesis, 'max_velocity', '{}')} | {s['final_velocity']:.2f} [{s['final_velocity_max']:.2f}] "
         f"| {_value(s['final_eval_velocity'])} [{_value(s['final_eval_velocity_max'])}] "

@@ -11,7 +11,7 @@ import numpy as np
 from mjx_badger.agents.config import ALGORITHMS
 from mjx_badger.control.actions import APPROACHES
 from mjx_badger.core.paths import REFERENCE
-from mjx_badger.sim.gait import gait_frequency
+from mjx_badger.sim.gait import GAITS, gait_frequency, gait_name
 
 
 def display_name(name: str) -> str:
@@ -79,6 +79,20 @@ def gait_frequencies(document: dict) -> list[float]:
     return [gait_frequency(c, gait["physics_dt"]) for c in gait["contacts"]]
 
 
+def gait_names(document: dict) -> list[str]:
+    """The gait (sim/gait.py's names) of every seed's gait record, or [] if the file has none."""
+    gait = document.get("gait")
+    return [gait_name(c, gait["physics_dt"]) for c in gait["contacts"]] if gait else []
+
+
+def below_target(document: dict, target: float, seconds: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Fig 5.5 per seed over the gait record's last `seconds`: the share of time below `target`, and the
+    deepest dip under it (m/s, 0 where it never dips)."""
+    gait = document["gait"]
+    velocity = np.asarray(gait["forward_velocity"], dtype=float)[:, -int(round(seconds / gait["physics_dt"])):]
+    return np.mean(velocity < target, axis=1), np.maximum(target - velocity.min(axis=1), 0.0)
+
+
 GAIN_MOMENTS = ("train/desired_velocity", "train/estimated_desired_velocity", "train/true_squared",
                 "train/estimate_squared", "train/true_times_estimate")
 
@@ -104,7 +118,7 @@ def summarize(document: dict, target: float | None) -> dict:
     warmup_chunks = [i for i, step in enumerate(document["steps"]) if step <= warmup]
     falls_in_warmup = falls_curve[warmup_chunks[-1]] if warmup_chunks else np.zeros_like(falls)
     reached = None if target is None else first_reached(document, target)
-    frequencies = gait_frequencies(document)
+    frequencies, names = gait_frequencies(document), gait_names(document)
     metrics = document["metrics"]
     eval_velocity = final(document, "eval/desired_velocity") if "eval/desired_velocity" in metrics else None
     gain = estimate_gain(document)
@@ -133,6 +147,9 @@ def summarize(document: dict, target: float | None) -> dict:
         "estimate_slope": None if gain is None else float(np.nanmean(gain["slope"])),
         "estimate_correlation": None if gain is None else float(np.nanmean(gain["correlation"])),
         "gait_hz": float(np.nanmean(frequencies)) if frequencies and not np.all(np.isnan(frequencies)) else None,
+        # The seeds' most common gait (the first named of a tie, in GAITS' order) and each gait's count.
+        "gait": max(GAITS, key=names.count) if names else None,
+        "gait_counts": {name: names.count(name) for name in GAITS if name in names},
         "seeds": len(document["seeds"]),
         "complete": document["complete"],
     }

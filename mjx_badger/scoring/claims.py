@@ -1,4 +1,5 @@
-"""The thesis's fifteen simulation findings as claims (verdicts.py), and `score`, which checks them.
+"""The thesis's simulation findings as claims (verdicts.py), and `score`, which checks them: fifteen about
+learning here, five about how the policies move in behaviour_claims.py.
 
 Each claim's measure reads the results of one protocol at one profile and gives our numbers in
 words and whether the finding holds; the scoreboards that show them are scoreboard.py's.
@@ -9,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from mjx_badger.records import analysis
+from mjx_badger.scoring import behaviour_claims
 from mjx_badger.scoring.verdicts import Claim, Results, Verdict
 
 JT = ("jt-nf", "jt-oef", "jt-lpf")
@@ -199,7 +201,7 @@ CLAIMS = (
           _curriculum_beats_random),
     Claim("pdec-error", "Under the curriculum the desired-velocity error stays ~0.05 m/s", "Fig 5.13, §5.1.5",
           "~0.05 m/s", "desired-velocity MAE <= 0.1 m/s for all three CPG approaches", _curriculum_error),
-)
+) + behaviour_claims.CLAIMS
 
 
 CLAIMS_BY_ID = {claim.id: claim for claim in CLAIMS}

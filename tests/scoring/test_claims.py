@@ -19,9 +19,9 @@ def test_forward_claims_follow_the_numbers(tmp_path):
     assert board["jt-convergence"].holds is True  # every approach reaches 0.45 m/s at chunk 5 (5k steps)
     assert board["crossq-first"].holds is None and "no results" in board["crossq-first"].ours
     text = scoreboard.scoreboard_text(list(board.values()), "quick", "thesis-code")
-    assert "thesis-code protocol, quick profile: 3 of 15 hold" in text
+    assert "thesis-code protocol, quick profile: 3 of 20 hold" in text
     table = scoreboard.scoreboard_markdown({"thesis-code": list(board.values())})
-    assert "| **claims that hold** | | 3 of 15 |" in table and "| not run yet |" in table
+    assert "| **claims that hold** | | 3 of 20 |" in table and "| not run yet |" in table
 
 
 def test_a_partly_run_experiment_says_how_far_it_is_and_keeps_no_verdict(tmp_path):
@@ -108,3 +108,4 @@ def test_maximal_velocity_is_scored_on_the_best_seed_and_on_the_seeds_mean_as_th
     board = {v.claim.id: v for v in claims.score(tmp_path / "quick", "thesis-code")}
     assert board["jt-max-velocity"].holds is False and "JT-NF 1.60 / 0.90" in board["jt-max-velocity"].ours
     assert board["cpg-vf-max"].holds is True and "CPG-VF 0.70 / 0.65" in board["cpg-vf-max"].ours
+

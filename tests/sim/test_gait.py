@@ -38,3 +38,28 @@ def test_two_touchdowns_per_cycle_still_count_one_cycle(first, second):
     phase = (T[:, None] * 2.0 + np.array([0.0, 0.5, 0.5, 0.0])) % 1.0
     contacts = (((phase >= first[0]) & (phase < first[1])) | ((phase >= second[0]) & (phase < second[1]))).astype(int)
     assert gait.gait_frequency(contacts, DT) == pytest.approx(2.0, abs=0.05)
+
+
+@pytest.mark.parametrize("name, offsets", [
+    ("trot", (0.0, 0.5, 0.5, 0.0)),  # diagonals together
+    ("pace", (0.0, 0.5, 0.0, 0.5)),  # same-side feet together
+    ("walk", (0.0, 0.5, 0.75, 0.25)),  # left and right opposed, hind a quarter behind
+    ("bound", (0.0, 0.0, 0.5, 0.5)),  # fore pair together, hind pair half a cycle later
+    ("pronk", (0.0, 0.0, 0.0, 0.0)),
+    ("gallop", (0.0, 0.15, 0.55, 0.7)),  # each pair's feet close, not together: the lead
+])
+def test_gaits_are_named_from_the_feet_phases(name, offsets):
+    assert gait.gait_name(trot(2.0, offsets=offsets), DT) == name
+
+
+def test_leg_phases_give_each_foot_its_delay_behind_the_first():
+    phases = gait.leg_phases(trot(2.0, offsets=(0.0, 0.15, 0.55, 0.7)), DT, 2.0)
+    # trot() advances a foot by its offset: the delay behind FL is 1 - offset, in cycles
+    assert phases == pytest.approx([0.0, 0.85, 0.45, 0.30], abs=0.02)
+
+
+def test_standing_and_a_foot_that_never_lifts_are_not_named_as_gaits():
+    assert gait.gait_name(np.ones((400, 4)), DT) == "standing"
+    three_legged = trot(2.0)
+    three_legged[:, 2] = 1
+    assert gait.gait_name(three_legged, DT) == "irregular"

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from mjx_badger.outputs import real_world
+from mjx_badger.realtime import milestones
 from mjx_badger.realtime.report import TRACE
-from mjx_badger.records import milestones
 
 HZ = 40
 
