@@ -11,7 +11,7 @@ TEST_WORKERS ?= 2
 # NO_MKDOCS_2_WARNING silences mkdocs-material's notice about its end of life, which is not a warning of the build.
 MKDOCS := NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir build/site
 
-.PHONY: install test test-slow docs reproduce-figures figures reference-figures benchmark bench-peers clean
+.PHONY: install test test-slow docs reproduce-figures figures reference-figures grid-figure benchmark bench-peers clean
 
 # uv installs the pinned set in seconds where pip takes half a minute; pip does it where uv cannot reach an index.
 $(VENV)/.installed: pyproject.toml requirements.lock
@@ -47,6 +47,10 @@ figures: install
 reference-figures: install
 	$(PY) -m mjx_badger figures --results-dir figures/data --figures-dir figures --profile $(PROFILE) --protocol $(PROTOCOL)
 	$(PY) -m mjx_badger claims --results-dir figures/data --profile $(PROFILE) --markdown figures/claims_$(PROFILE).md
+
+# Fig 4.2's learning rate x batch size grid at quick (24 sweep members, about 6 h on a 2-core CPU; resumable).
+grid-figure: install
+	$(PY) -m tools.lr_batch_grid --run --results-dir results/grid --figures-dir results/grid/figures
 
 # Each benchmark is a module of the benchmarks package, run from the repository root (docs/benchmarks.md).
 benchmark: install

@@ -12,6 +12,7 @@ from mjx_badger.core import safe_io
 from mjx_badger.core.validation import number, writable_dir, writable_file
 from mjx_badger.experiments.registry import EXPERIMENTS, GROUPS, PROFILES, expand
 from mjx_badger.learning import memory
+from mjx_badger.outputs import estimate_gain as gain_figure
 from mjx_badger.outputs import plots, publish
 from mjx_badger.pipelines import reproduce, scoreboards
 from mjx_badger.scoring import attribution, estimate_gain
@@ -207,13 +208,16 @@ class EstimateGain:
     """Train what is missing first (--no-train: score what is there)."""
     json: Optional[Path] = None
     """Also write the per-value gains, findings and speeds here."""
+    figure: Optional[Path] = None
+    """Also draw each finding against the gain, with the band that agrees with the thesis, here (.png)."""
 
     def check(self) -> None:
         for value in self.values:
             number("--values entry", value, 0.0, 1.0)
         writable_dir(self.results_dir, "results folder")
-        if self.json is not None:
-            writable_file(self.json, "--json")
+        for option, path in (("--json", self.json), ("--figure", self.figure)):
+            if path is not None:
+                writable_file(path, option)
 
     def __call__(self) -> int:
         if self.train:
@@ -225,4 +229,7 @@ class EstimateGain:
             print(f"contact_trust {row['value']:g}: {gain}; holds: {', '.join(held) or 'none'}")
         if self.json:
             safe_io.write_text(self.json, json.dumps(rows, indent=1) + "\n")
+        if self.figure:
+            gain_figure.figure(rows, self.figure, f"{self.profile} profile, {self.protocol}")
+            print(f"wrote {self.figure}")
         return 0
