@@ -46,6 +46,9 @@ def why(row: dict) -> str:
         return "agrees"
     if not differs(ours, last):
         return "the policy changed over the final chunks: it agrees with the last chunk's evaluation"
+    if row.get("evaluation_crossed_episode"):
+        return ("training's evaluation ran past the episode's time limit and scored the restart against a command "
+                "the task drew, not this one (sim/evaluation.py, fixed after these runs)")
     mjx, native = row.get("mjx_at_training_length"), row.get("native_at_training_length")
     if mjx and not differs(mjx["heading_velocity_along_command"], last) and differs(
             native["heading_velocity_along_command"], last):
@@ -62,6 +65,14 @@ def _eval_name(document: dict, row: dict) -> str:
     config = from_results(document)
     name = f"eval/{next(iter(config.make_task().eval_commands))}/desired_velocity"
     return name if name in document["metrics"] else "eval/desired_velocity"
+
+
+def crossed_episode(document: dict) -> bool:
+    """Whether training evaluated an omnidirectional task for longer than an episode: before the fix, its
+    evaluation restarted at the time limit under a command the task drew (a random direction, the curriculum's)."""
+    config = from_results(document)
+    env = config.env_config
+    return config.task.startswith("omni") and config.eval_steps / env.control_hz > env.protocol.episode_seconds
 
 
 def differs(ours: float, theirs: float) -> bool:
@@ -117,6 +128,7 @@ def main():
             document_ = results.read(DATA / key)
             row["training_eval_last"] = float(analysis.series(document_, _eval_name(document_, row))[-1, document_[
                 "seeds"].index(row["seed"])])
+        row["evaluation_crossed_episode"] = crossed_episode(results.read(DATA / key))
         row["why"] = why(row)
     document["policies"] = dict(sorted(rows.items()))
     document["over_20_percent"] = [k for k, r in document["policies"].items()

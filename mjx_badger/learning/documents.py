@@ -38,6 +38,7 @@ def new(member: Member, started: str, compile_s: float) -> dict:
         "wall_clock": {"started": started, "compile_s": round(compile_s, 2)},
         "versions": results.versions(),
         "git_commit": results.git_commit(),
+        "evaluation_holds_command": True,  # sim/evaluation.py holds each run's command past an episode's end
     }
 
 

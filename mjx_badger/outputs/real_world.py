@@ -16,11 +16,21 @@ def _thesis_velocity(numbers: dict) -> str:
     return "N/A (no headway)" if numbers["velocity"] is None else f"{numbers['velocity']:g}"
 
 
+def _number(value) -> str:
+    return "-" if value is None or value != value else f"{value:.0f}"
+
+
+def _stops(s: dict) -> str:
+    """'before a fall / premature' safety stops, '-' for files from before they were counted."""
+    return "-" if s["stops_before_fall"] is None else f"{s['stops_before_fall']:.0f} / {s['premature_stops']:.0f}"
+
+
 def table(experiment, documents: dict, x_axis: str = "steps") -> str:
     """Markdown: per approach, ours beside the thesis's (ours: mean over seeds, [min-max])."""
     lines = ["| approach | seeds x steps | eval speed m/s (thesis) | ours, true [min-max] | ours, as estimated "
              "| yaw control (thesis) | ours: heading drift, category | falls (thesis) | ours [min-max] "
-             "| minutes on the robot (thesis) | ours, resets included |", "|---" * 11 + "|"]
+             "| ours by 10k steps | of ours: no fall yet / noise alone | minutes on the robot (thesis) "
+             "| ours, resets included |", "|---" * 13 + "|"]
     for label, document in documents.items():
         s = summary(document)
         thesis = experiment.thesis_numbers.get(label, {})
@@ -30,7 +40,7 @@ def table(experiment, documents: dict, x_axis: str = "steps") -> str:
             f"| {display_name(label)} | {size} | {_thesis_velocity(thesis)} | {s['velocity']:.2f} [{low:.2f}-{high:.2f}] "
             f"| {s['estimated_velocity']:.2f} | {thesis.get('yaw') or 'N/A'} | {s['yaw_drift_deg']:.0f} deg, {s['yaw']} "
             f"| {thesis.get('falls', '-')} | {s['falls']:.0f} [{s['falls_range'][0]:.0f}-{s['falls_range'][1]:.0f}] "
-            f"| {thesis.get('minutes', '-')} | {s['minutes']:.0f} |")
+            f"| {_number(s['falls_10k'])} | {_stops(s)} | {thesis.get('minutes', '-')} | {s['minutes']:.0f} |")
     return "\n".join(lines) + "\n"
 
 

@@ -93,6 +93,17 @@ def below_target(document: dict, target: float, seconds: float = 1.0) -> tuple[n
     return np.mean(velocity < target, axis=1), np.maximum(target - velocity.min(axis=1), 0.0)
 
 
+def evaluation_crossed_episode(document: dict) -> bool:
+    """Whether the run evaluated an omnidirectional task for longer than an episode: until sim/evaluation.py held
+    the command, such an evaluation restarted at the time limit under a command the task drew."""
+    config = document["config"]
+    env = config.get("env") or {}
+    episode = (env.get("protocol") or {}).get("episode_seconds")
+    return (config.get("task", "").startswith("omni") and episode is not None
+            and config["eval_steps"] / env["control_hz"] > episode + 1e-9
+            and not document.get("evaluation_holds_command", False))
+
+
 GAIN_MOMENTS = ("train/desired_velocity", "train/estimated_desired_velocity", "train/true_squared",
                 "train/estimate_squared", "train/true_times_estimate")
 

@@ -17,6 +17,8 @@ import numpy as np
 from mjx_badger.protocol.conditions import get as get_conditions
 from mjx_badger.records.analysis import final, series
 
+FIRST_STEPS = 10_000
+"""§5.2.2's count of early falls runs to here."""
 YAW_BINS = ((10.0, "very good"), (30.0, "good"), (60.0, "medium"), (math.inf, "poor"))
 """Heading drift (degrees) below which each category holds (thesis §5.2)."""
 
@@ -38,13 +40,21 @@ def summary(document: dict) -> dict:
     reset = get_conditions(config.get("conditions", "sim"), tuple(map(tuple, config.get("condition_changes", ())))
                            ).reset_seconds
     minutes = (document["sim_minutes"][-1] * 60 + falls * reset) / 60
+    # §5.2.2 counts "over 100 terminations within the first 10k steps": the falls by then, beside the whole run's.
+    by_10k = [i for i, step in enumerate(document["steps"]) if step <= FIRST_STEPS]
+    falls_10k = series(document, "train/falls_total")[by_10k[-1]] if by_10k else np.full_like(falls, np.nan)
+    # §6.4: the stops at which the truth shows no fall yet, and those the sensors' noise alone made (None in files
+    # from before the robot's stop read its senses).
+    stops = {name: float(np.mean(series(document, f"train/{name}")[-1])) if f"train/{name}" in metrics else None
+             for name in ("stops_before_fall", "premature_stops")}
     return {"seeds": len(document["seeds"]), "steps": document["steps"][-1], "complete": document["complete"],
             "velocity": float(np.nanmean(true_speed)), "velocity_range": (float(np.nanmin(true_speed)),
                                                                           float(np.nanmax(true_speed))),
             "estimated_velocity": float(np.nanmean(estimated)),
             "yaw_drift_deg": float(np.nanmean(drift)), "yaw": yaw_category(float(np.nanmean(drift))),
             "falls": float(np.mean(falls)), "falls_range": (float(falls.min()), float(falls.max())),
-            "minutes": float(np.mean(minutes)), "eval_seconds": eval_seconds}
+            "minutes": float(np.mean(minutes)), "eval_seconds": eval_seconds,
+            "falls_10k": float(np.mean(falls_10k)), **stops}
 
 
 LOOP_FOLDERS = {"real-office": ("realtime", "office"), "real-outdoor": ("realtime", "outdoor")}

@@ -32,6 +32,9 @@ Schema `mjx_badger.results/2` (files of schema 1 are read into it: `upgrade`):
                   checkpoints.py), seed_steps_per_s
     versions      python and package versions
     git_commit    commit of the code that ran, "+dirty" when it had local changes
+    evaluation_holds_command  true where each evaluation run kept its command past an episode's time limit
+                  (absent in files from before: an omnidirectional one evaluated longer than an episode restarted
+                  under a command its task drew; analysis.evaluation_crossed_episode)
     hardware      platform, cpu count, jax devices, peak resident memory (MiB)
 """
 
@@ -173,7 +176,7 @@ def shape_problem(document: dict) -> str:
         if not all(isinstance(row, list) and len(row) == (width or len(row)) and all(map(number, row)) for row in rows):
             return f"metric {name} has not one number per seed in every row"
     for key, kind in (("complete", bool), ("policy", str), ("wall_clock", dict), ("gait", dict),
-                      ("diverged_at_step", list)):
+                      ("diverged_at_step", list), ("evaluation_holds_command", bool)):
         if document.get(key) is not None and not isinstance(document[key], kind):
             return f"{key} is not a {kind.__name__}"
     if document.get("diverged_at_step") is not None and len(document["diverged_at_step"]) != len(seeds):

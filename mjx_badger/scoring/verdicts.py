@@ -52,6 +52,11 @@ class Results:
                  if (words := results_io.left_out_words(self.documents(e)[n]))}
         return "; ".join(sorted(notes))
 
+    def crossed(self) -> str:
+        """'' or which documents read since the last check evaluated past an episode's end under a drawn command."""
+        return ", ".join(sorted({f"{e}/{n}" for e, n in self.used
+                                 if analysis.evaluation_crossed_episode(self.documents(e)[n])}))
+
     def summary(self, experiment: str, name: str) -> dict:
         return analysis.summarize(self.document(experiment, name), EXPERIMENTS[experiment].target_velocity)
 
@@ -99,4 +104,9 @@ class Claim:
                                None)
             return Verdict(self, f"no results ({missing})", None)
         left_out = results.left_out()
-        return Verdict(self, ours + (f" ({left_out})" if left_out else ""), None if holds is None else bool(holds))
+        ours += f" ({left_out})" if left_out else ""
+        crossed = results.crossed()
+        if crossed:  # its numbers mix in a command the run was not asked: no verdict until it is rerun
+            return Verdict(self, f"{ours} (undecided: {crossed} evaluated past an episode's end under a drawn "
+                                 "command, before the fix)", None)
+        return Verdict(self, ours, None if holds is None else bool(holds))

@@ -9,8 +9,10 @@ for the forward tasks, four directions x two speeds for the omni ones), each rep
 `eval/{run}/{metric}` for every metric of RUN_METRICS, and `eval/{metric}` over all runs: the
 mean, falls summed. `desired_velocity` is the trunk velocity along the command (the forward
 velocity for the forward tasks), the `_mae` metrics its error and the lateral and yaw errors.
+A run longer than an episode restarts from standing at the episode's time limit, under its own command.
 """
 
+import copy
 from typing import Callable
 
 import jax
@@ -30,6 +32,14 @@ def batched_like(tree, key: jax.Array):
     return jax.tree.map(lambda x: jnp.where(same, x, x), tree)
 
 
+def holding(env, command):
+    """`env` whose every episode runs under `command`: a run longer than an episode restarts (the episode's time
+    limit) under the command it is scored against, not one the task draws (a random direction, the curriculum's)."""
+    held = copy.copy(env)
+    held.task = env.task._replace(command=lambda task_state, _key: (task_state, command))
+    return held
+
+
 def make_evaluation(env, act: Callable, eval_steps: int, gait_seconds: float):
     """(evaluate, gait) of the policy `act` on `env`; see the module docstring."""
     names = tuple(env.task.eval_commands)
@@ -37,15 +47,16 @@ def make_evaluation(env, act: Callable, eval_steps: int, gait_seconds: float):
 
     def run(policy_state, key, command):
         """Deterministic policy from a fresh episode under `command`; the steps after a first fall are ignored."""
+        held = holding(env, command)
 
         def body(state, _):
-            state = env.step(state, act(policy_state, state.obs))
+            state = held.step(state, act(policy_state, state.obs))
             m = state.metrics
             return state, (state.reward, m["desired_velocity"], m["command_lateral_velocity"], m["yaw_rate"],
                            state.info["terminated"], m.get("estimated_desired_velocity"))
 
         _, (reward, along, lateral, yaw, terminated, estimated) = jax.lax.scan(
-            body, batched_like(env.reset(key, command), key), None, length=eval_steps)
+            body, batched_like(held.reset(key, command), key), None, length=eval_steps)
         upright = jnp.cumsum(terminated) == 0
         mean = lambda x: jnp.sum(jnp.where(upright, x, 0.0)) / jnp.maximum(jnp.sum(upright), 1)
         speed = jnp.linalg.norm(command[:2])

@@ -34,3 +34,29 @@ def test_a_seed_left_out_for_diverging_is_named_beside_the_numbers(tmp_path):
     write_run(tmp_path, "algo-comparison", "crossq", document)
     assert CLAIM.check(Results(tmp_path)).ours == "CrossQ 0.55 m/s (algo-comparison/crossq seed 1 left out: " \
                                                   "diverged at step 7000)"
+
+
+def _omni(eval_steps: int, holds_command=None) -> dict:
+    """An omni-random run evaluated for `eval_steps` at 40 Hz against 10 s episodes (thesis-code)."""
+    document = simulation_document(0.1, 0.0)
+    document["config"].update(task="omni-random", eval_steps=eval_steps,
+                              env={"control_hz": 40.0, "protocol": {"episode_seconds": 10.0}})
+    if holds_command is not None:
+        document["evaluation_holds_command"] = holds_command
+    return document
+
+
+def _omni_speed(results: Results):
+    speed = results.summary("omni-random", "cpg-d")["final_velocity"]
+    return f"CPG-D {speed:.2f} m/s", speed < 0.15
+
+
+def test_an_omni_run_evaluated_past_an_episode_before_the_fix_leaves_its_claim_undecided(tmp_path):
+    claim = Claim("omni", "CPG-D stands", "Fig 5.9", "-", "< 0.15 m/s", _omni_speed)
+    write_run(tmp_path, "omni-random", "cpg-d", _omni(800))  # 20 s of evaluation over 10 s episodes
+    verdict = claim.check(Results(tmp_path))
+    assert verdict.holds is None and "undecided: omni-random/cpg-d evaluated past an episode's end" in verdict.ours
+    write_run(tmp_path, "omni-random", "cpg-d", _omni(800, holds_command=True))  # run since the fix
+    assert claim.check(Results(tmp_path)).holds is True
+    write_run(tmp_path, "omni-random", "cpg-d", _omni(400))  # within one episode: never crossed
+    assert claim.check(Results(tmp_path)).holds is True

@@ -1,11 +1,16 @@
 """The deterministic evaluation: an omni run records eight evaluations and its curriculum, and is drawn."""
 
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
 import numpy as np
 
 from mjx_badger.learning import runner
 from mjx_badger.learning.config import TrainConfig
 from mjx_badger.outputs import plots
 from mjx_badger.sim import evaluation
+from mjx_badger.tasks.locomotion import Task
 from tests.documents import evaluation_schema
 
 
@@ -39,3 +44,41 @@ def test_omni_run_records_eight_evaluations_and_the_curriculum_and_draws_every_o
     assert "| CPG-D | 2 x 200 |" in written["omni-pdec_smoke.md"].read_text()
 
 
+
+
+class _State(NamedTuple):
+    obs: jnp.ndarray
+    reward: jnp.ndarray
+    metrics: dict
+    info: dict
+
+
+class _Episodes:
+    """An env whose episodes last 3 steps and whose metric is the command's forward speed; at the time limit it
+    restarts under whatever its task's `command` draws, as env.py's auto-reset does."""
+
+    def __init__(self, task):
+        self.task = task
+
+    def _state(self, command, t):
+        metrics = {"desired_velocity": command[0], "command_lateral_velocity": 0.0, "yaw_rate": 0.0}
+        return _State(command, jnp.float32(0.0), metrics, {"terminated": jnp.bool_(False), "t": t})
+
+    def reset(self, key, command):
+        return self._state(command, 0)
+
+    def step(self, state, action):
+        t = state.info["t"] + 1
+        _, drawn = self.task.command((), None)
+        return self._state(jnp.where(t % 3 == 0, drawn, state.obs), t)
+
+
+def test_a_run_longer_than_an_episode_restarts_under_its_own_command_not_one_the_task_draws():
+    backward = lambda state, key: (state, jnp.array([-0.5, 0.0, 0.0]))  # noqa: E731  what omni-random might draw
+    task = Task(name="omni", command=backward, reward=None, weights={},
+                eval_commands={"forward": (0.5, 0.0, 0.0), "left": (0.0, 0.5, 0.0)})
+    evaluate, _ = evaluation.make_evaluation(_Episodes(task), lambda policy, obs: obs, eval_steps=10, gait_seconds=0.1)
+    metrics = evaluate(None, jax.random.PRNGKey(0))
+    # Ten steps span four episodes; every one is scored under the run's command: 0.5 forward throughout.
+    assert float(metrics["eval/forward/desired_velocity"]) == 0.5
+    assert float(metrics["eval/left/desired_velocity"]) == 0.0
