@@ -132,7 +132,8 @@ def milestones_table(loops: dict) -> str:
             thesis = milestones.THESIS.get(conditions, {}).get(approach, {})
             evaluation = document.get("evaluation") or {}
             true, best = evaluation.get("true_velocity"), evaluation.get("true_peak_1s")
-            words = "-" if true is None else f"{true:.2f}, {'-' if best is None else f'{best:.2f}'}"
+            words = ("-" if true is None else f"fell after {evaluation['seconds']:.2f} s" if evaluation.get("fell")
+                     else f"{true:.2f}, {'-' if best is None else f'{best:.2f}'}")  # a tumble's speed is no walk's
             lines.append(f"| {conditions} | {display_name(approach)} | {document['steps']:,} | {document['falls']} "
                          + "".join(f"| {_minutes(ours[key], thesis.get(key))} " for key in ("first", "bigger", "peak"))
                          + f"| {ours['peak_velocity']:.2f} | {words} | {thesis.get('sim') or '-'} |")

@@ -45,3 +45,10 @@ def test_the_table_puts_ours_beside_the_thesis_words():
     table = real_world.milestones_table({"office": {"jt-oef": (document, _trace([0.0, 0.1, 0.3, 0.2], 30))}})
     # office resets take 20 s (conditions.py); the thesis's JT-OEF: 3, 4.5 and 12.5 minutes, 1.5 m/s in simulation
     assert "| office | JT-OEF | 14,400 | 1 | 1.3 / 1.6 (3) | 2.1 / 2.4 (4.5) | 2.5 / 2.8 (12.5) | 0.30 | 0.21, 0.33 | 1.5 |" in table
+
+
+def test_an_evaluation_that_fell_reads_as_a_fall_not_a_speed():
+    document = {"steps": 14400, "falls": 1, "evaluation": {"true_velocity": 1.02, "true_peak_1s": None, "seconds": 0.35,
+                                                           "fell": "pitch +0.88 rad"}}
+    table = real_world.milestones_table({"outdoor": {"jt-oef": (document, _trace([0.0, 0.1, 0.3, 0.2], 30))}})
+    assert "| fell after 0.35 s |" in table and "1.02" not in table
