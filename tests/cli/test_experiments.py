@@ -27,12 +27,12 @@ def test_the_budgets_plot_needs_two_budgets_and_a_file_of_its_own(tmp_path, caps
 def test_claims_without_results_prints_both_empty_scoreboards(capsys, tmp_path):
     assert main(["claims", "--results-dir", str(tmp_path), "--json", str(tmp_path / "board.json")]) == 0
     out = capsys.readouterr().out
-    assert "thesis-code protocol, quick profile: 0 of 15 hold (0 checked)" in out
+    assert "thesis-code protocol, quick profile: 0 of 20 hold (0 checked)" in out
     assert "wall time: 0 runs in 0.00 h" in out
     assert "thesis-text protocol" in out and "thesis: CrossQ ~2 min, DroQ ~7 min" in out
     board = json.loads((tmp_path / "board.json").read_text())
     assert sorted(board) == ["thesis-code", "thesis-text"]
-    assert all(len(claims) == 15 and all(c["holds"] is None for c in claims) for claims in board.values())
+    assert all(len(claims) == 20 and all(c["holds"] is None for c in claims) for claims in board.values())
 
 
 def test_the_commands_refuse_empty_or_repeated_experiments_and_default_their_figures_folder(tmp_path):

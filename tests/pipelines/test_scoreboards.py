@@ -13,7 +13,7 @@ def test_the_budgets_board_puts_each_profile_beside_the_thesis(tmp_path, capsys)
     scoreboards.by_budget(tmp_path, ("quick", "full"), None, out, None, plot)
     text = capsys.readouterr().out
     assert f"wrote {plot}" in text and plot.read_bytes().startswith(b"\x89PNG")
-    assert "thesis-code protocol: 1 of 15 at quick, 2 of 15 at full hold" in text
+    assert "thesis-code protocol: 1 of 20 at quick, 2 of 20 at full hold" in text
     assert "quick   FAILS  JT-NF 58.0" in text and "full    HOLDS  JT-NF 13.0" in text
     table = out.read_text()
     assert "| thesis finding | thesis | ours at quick | ours at full |" in table
