@@ -39,7 +39,8 @@ def main(argv=None) -> None:
             subprocess.run(sweep_command(batch, args.results_dir), check=True)
     numbers = {cell: grid.cell_numbers(document) for cell, document in grid.load_cells(args.results_dir).items()}
     if not numbers:
-        sys.exit(f"no finished sweep members under {args.results_dir}: run with --run first")
+        print(f"error: no finished sweep members under {args.results_dir}: run with --run first", file=sys.stderr)
+        sys.exit(2)
     crossq = THESIS_CODE.agent_config("crossq")
     default = (crossq.learning_rate, crossq.batch_size)
     label = (f"JT-OEF CrossQ forward, thesis-code, {SEEDS} seeds x {STEPS:,} steps ({len(numbers)} of "

@@ -9,9 +9,9 @@ import numpy as np
 from mjx_badger.experiments.registry import Experiment
 from mjx_badger.outputs import real_world
 from mjx_badger.outputs.style import curve_panel, plt, save, seeds_note
-from mjx_badger.records.analysis import DIRECTIONS, display_color, display_name, summarize
+from mjx_badger.records.analysis import DIRECTIONS, display_color, display_name, gait_names
 from mjx_badger.robot.description import ROBOTS
-from mjx_badger.sim.gait import gait_frequency, gait_name
+from mjx_badger.sim.gait import GAITS, gait_frequency, gait_name
 
 
 def learning_curves(experiment: Experiment, documents: dict, out: Path, profile: str, x_axis: str,
@@ -48,7 +48,8 @@ def gait_figure(experiment: Experiment, documents: dict, out: Path, profile: str
         contact_ax.set_ylim(len(legs) - 0.4, -0.6)
         thesis = experiment.thesis_numbers.get(label, {})
         thesis_words = " ".join(w for w in (thesis.get("gait"), thesis.get("gait_hz") and f"~{thesis['gait_hz']} Hz") if w)
-        seeds = ", ".join(f"{name} {n}" for name, n in summarize(document, None)["gait_counts"].items())
+        names = gait_names(document)
+        seeds = ", ".join(f"{name} {names.count(name)}" for name in GAITS if name in names)
         whole = gait["contacts"][0]  # the frequency and the gait from the whole record: one second holds few cycles
         contact_ax.set_title(f"{display_name(label)}: {gait_name(whole, dt)} at {gait_frequency(whole, dt):.1f} Hz" + (f" (thesis {thesis_words})" if thesis_words
                                                                           else "") + f"; seeds: {seeds}",
