@@ -1,85 +1,16 @@
 """Actor and critic networks shared by every algorithm of the SAC family."""
 
-import math
 from typing import Sequence
 
 import flax.linen as nn
 import jax
 import jax.numpy as jnp
 
+from mjx_badger.agents.layers import BatchRenorm, Dropout
+from mjx_badger.agents.trunks import head, make_trunk
+
 LOG_STD_MIN, LOG_STD_MAX = -10.0, 2.0
 CLIPPED_LOG_STD_MIN = -20.0  # RL-X's policies clip the raw output to [-20, 2]
-
-
-class BatchRenorm(nn.Module):
-    """Batch renormalisation (Ioffe 2017), as CrossQ uses it in the critic.
-
-    In training mode the batch is normalised with its own statistics, corrected towards
-    the running ones by r and d (both without gradient); before `warmup_steps` updates
-    it is plain batch normalisation (r = 1, d = 0). In evaluation mode the running
-    statistics are used.
-    """
-
-    momentum: float = 0.99
-    epsilon: float = 1e-3
-    r_max: float = 3.0
-    d_max: float = 5.0
-    warmup_steps: int = 100_000
-
-    @nn.compact
-    def __call__(self, x, train: bool):
-        features = x.shape[-1]
-        mean = self.variable("batch_stats", "mean", jnp.zeros, (features,))
-        var = self.variable("batch_stats", "var", jnp.ones, (features,))
-        steps = self.variable("batch_stats", "steps", jnp.zeros, (), jnp.int32)
-        scale = self.param("scale", nn.initializers.ones, (features,))
-        bias = self.param("bias", nn.initializers.zeros, (features,))
-        if train:
-            batch_mean = x.mean(axis=0)
-            batch_var = x.var(axis=0)
-            batch_std = jnp.sqrt(batch_var + self.epsilon)
-            running_std = jnp.sqrt(var.value + self.epsilon)
-            r = jax.lax.stop_gradient(jnp.clip(batch_std / running_std, 1 / self.r_max, self.r_max))
-            d = jax.lax.stop_gradient(jnp.clip((batch_mean - mean.value) / running_std, -self.d_max, self.d_max))
-            warm = steps.value < self.warmup_steps
-            r = jnp.where(warm, 1.0, r)
-            d = jnp.where(warm, 0.0, d)
-            y = (x - batch_mean) / batch_std * r + d
-            if not self.is_initializing():
-                mean.value = self.momentum * mean.value + (1 - self.momentum) * batch_mean
-                var.value = self.momentum * var.value + (1 - self.momentum) * batch_var
-                steps.value = steps.value + 1
-        else:
-            y = (x - mean.value) / jnp.sqrt(var.value + self.epsilon)
-        return y * scale + bias
-
-
-def hashed_keep_mask(key, shape, rate: float):
-    """Bernoulli(1 - rate) mask from one random word and a counter hash (murmur3 finaliser).
-
-    A threefry draw per element costs about 11 ns on a CPU, which made it most of a DroQ
-    update; hashing (index xor seed) is ten times cheaper and random enough for dropout.
-    """
-    seed = jax.random.bits(key, dtype=jnp.uint32)
-    h = jax.lax.iota(jnp.uint32, math.prod(shape)).reshape(shape) ^ seed
-    h = h * jnp.uint32(0x9E3779B1)
-    h = (h ^ (h >> 16)) * jnp.uint32(0x85EBCA6B)
-    h = (h ^ (h >> 13)) * jnp.uint32(0xC2B2AE35)
-    h = h ^ (h >> 16)
-    return h >= jnp.uint32(int(rate * 2**32))
-
-
-class Dropout(nn.Module):
-    """Inverted dropout with a hashed mask; the identity when not training."""
-
-    rate: float
-
-    @nn.compact
-    def __call__(self, x, train: bool):
-        if not train or self.rate == 0:
-            return x
-        keep = hashed_keep_mask(self.make_rng("dropout"), x.shape, self.rate)
-        return jnp.where(keep, x / (1.0 - self.rate), 0.0)
 
 
 class Actor(nn.Module):
@@ -96,26 +27,36 @@ class Actor(nn.Module):
     renorm_warmup_steps: int = 100_000
     log_std_clip: bool = False
     """Clip the raw log-std to [-20, 2] instead of squashing it (see AgentConfig.log_std_clip)."""
+    trunk: str = "mlp"
+    """The body (agents.trunks.TRUNKS); 'mlp' is the one below, with its optional batch renormalisation."""
+    log_std_range: tuple | None = None
+    """Bounds of the log-std for either form; None: [-10, 2] squashed, [-20, 2] clipped."""
 
     @nn.compact
     def __call__(self, obs, train: bool = False):
+        if self.trunk != "mlp":
+            x = make_trunk(self.trunk, self.hidden)(obs, train)
+            return self.bounded(head(self.trunk, self.action_size)(x), head(self.trunk, self.action_size, 1.0)(x))
         norm = lambda: BatchRenorm(momentum=self.renorm_momentum, warmup_steps=self.renorm_warmup_steps)
         x = norm()(obs, train) if self.batch_renorm else obs
         for width in self.hidden:
             x = nn.relu(nn.Dense(width)(x))
             if self.batch_renorm:
                 x = norm()(x, train)
-        mean = nn.Dense(self.action_size)(x)
-        log_std = nn.Dense(self.action_size)(x)
+        return self.bounded(nn.Dense(self.action_size)(x), nn.Dense(self.action_size)(x))
+
+    def bounded(self, mean, log_std):
+        """The mean and the log-std clipped or squashed into its range."""
         if self.log_std_clip:
-            return mean, jnp.clip(log_std, CLIPPED_LOG_STD_MIN, LOG_STD_MAX)
+            low, high = self.log_std_range or (CLIPPED_LOG_STD_MIN, LOG_STD_MAX)
+            return mean, jnp.clip(log_std, low, high)
+        low, high = self.log_std_range or (LOG_STD_MIN, LOG_STD_MAX)
         # Squash log_std smoothly into its range so the gradient never dies at a clip.
-        log_std = LOG_STD_MIN + 0.5 * (LOG_STD_MAX - LOG_STD_MIN) * (jnp.tanh(log_std) + 1)
-        return mean, log_std
+        return mean, low + 0.5 * (high - low) * (jnp.tanh(log_std) + 1)
 
 
 class QNetwork(nn.Module):
-    """One Q function: (obs, action) (B, O), (B, A) -> (B,)."""
+    """One Q function: (obs, action) (B, O), (B, A) -> (B,), or (B, outputs) for a distributional critic."""
 
     hidden: Sequence[int] = (256, 256)
     batch_renorm: bool = False
@@ -123,10 +64,16 @@ class QNetwork(nn.Module):
     renorm_warmup_steps: int = 100_000
     dropout_rate: float = 0.0
     layer_norm: bool = False
+    trunk: str = "mlp"
+    outputs: int = 1
+    """1 for a Q value; the atoms or quantiles of a distributional critic."""
 
     @nn.compact
     def __call__(self, obs, action, train: bool = False):
         x = jnp.concatenate([obs, action], axis=-1)
+        if self.trunk != "mlp":
+            out = head(self.trunk, self.outputs)(make_trunk(self.trunk, self.hidden)(x, train))
+            return out[..., 0] if self.outputs == 1 else out
         norm = lambda: BatchRenorm(momentum=self.renorm_momentum, warmup_steps=self.renorm_warmup_steps)
         if self.batch_renorm:
             x = norm()(x, train)
@@ -139,11 +86,12 @@ class QNetwork(nn.Module):
             x = nn.relu(x)
             if self.batch_renorm:
                 x = norm()(x, train)
-        return nn.Dense(1)(x)[..., 0]
+        out = nn.Dense(self.outputs)(x)
+        return out[..., 0] if self.outputs == 1 else out
 
 
 class Critic(nn.Module):
-    """An ensemble of Q functions evaluated in one pass: -> (ensemble, B)."""
+    """An ensemble of Q functions evaluated in one pass: -> (ensemble, B) or (ensemble, B, outputs)."""
 
     ensemble_size: int = 2
     hidden: Sequence[int] = (256, 256)
@@ -152,6 +100,8 @@ class Critic(nn.Module):
     renorm_warmup_steps: int = 100_000
     dropout_rate: float = 0.0
     layer_norm: bool = False
+    trunk: str = "mlp"
+    outputs: int = 1
 
     @nn.compact
     def __call__(self, obs, action, train: bool = False):
@@ -170,6 +120,8 @@ class Critic(nn.Module):
             renorm_warmup_steps=self.renorm_warmup_steps,
             dropout_rate=self.dropout_rate,
             layer_norm=self.layer_norm,
+            trunk=self.trunk,
+            outputs=self.outputs,
         )(obs, action, train)
 
 

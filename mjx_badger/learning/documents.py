@@ -67,10 +67,13 @@ def finish(member: Member, document: dict, gait: dict, agent_states) -> dict:
     """The results file completed: the gait record, the saved policy and the agents beside it."""
     document["gait"] = gait_record(member, gait)
     document["agents"] = checkpoints.save_agents(member.out_path, agent_states).name  # every process: orbax's own
-    document["policy"] = policy.path_for(member.out_path).name
+    numpy_policy = not policy.unsupported(document["config"]["agent"])  # a newer agent's network: its agents only
+    if numpy_policy:
+        document["policy"] = policy.path_for(member.out_path).name
     actor = gather((agent_states.actor_params, agent_states.actor_stats))  # every process takes part
     if writes():
-        save_policy(member, actor, document)
+        if numpy_policy:
+            save_policy(member, actor, document)
         document["complete"] = True  # last: a run stopped before this point resumes from its checkpoint
         results.write(member.out_path, document)
     return document

@@ -39,7 +39,7 @@ class RunSpec:
     approach: str = "jt-oef"
     """An action space of actions.APPROACHES: 'jt-nf', 'jt-lpf', 'jt-oef', 'cpg-d', 'cpg-vf', 'cpg-rt', ..."""
     algo: str = "crossq"
-    """An algorithm of agents.config.ALGORITHMS: 'sac', 'sac-utd20', 'droq', 'crossq'."""
+    """An algorithm of agents.config.ALGORITHMS: the thesis's 'sac', 'sac-utd20', 'droq', 'crossq'; 'xqc', 'simbav2', 'bro', 'fastsac'."""
     task: str = "forward"
     """A task of tasks.locomotion.TASKS: 'forward', 'forward-max', 'omni-random', 'omni-pdec', ..."""
     protocol: str = "thesis-code"

@@ -63,7 +63,8 @@ def make_train(config: TrainConfig) -> Trainer:
     task = tasks.make_task(config.task, env_config.protocol.rewards, env_config.protocol.curriculum,
                            **dict(config.task_params))
     env = HB40Env(config.approach, task, env_config, config.robot_spec, config.approach_params)
-    agent = make_agent(cfg, env.observation_size, env.action_size)
+    agent = make_agent(cfg, env.observation_size, env.action_size,
+                       total_updates=(config.total_steps - config.warmup_steps) * cfg.updates_per_step)
     capacity = config.num_chunks * config.chunk_steps
 
     def init(key) -> Carry:
@@ -113,8 +114,12 @@ def make_train(config: TrainConfig) -> Trainer:
             next_obs = jnp.where(info["truncated"], env_state.obs, next_obs)
         transition = Transition(obs, action, env_state.reward, next_obs, 1.0 - info["terminated"].astype(jnp.float32))
         buffer = replay_buffer.add(carry.buffer, transition)
+        agent_state = agent.observe(carry.agent_state, obs, env_state.reward, env_state.done)
+        if cfg.resets:
+            agent_state = jax.lax.cond(jnp.isin(step, jnp.asarray(cfg.resets)), agent.reset, lambda s, k: s,
+                                       agent_state, jax.random.fold_in(learn_key, 1))
         agent_state, learn_metrics = jax.lax.cond(step >= config.warmup_steps, learn, skip_learning,
-                                                  carry.agent_state, buffer, learn_key, step)
+                                                  agent_state, buffer, learn_key, step)
         episode_return = carry.episode_return + env_state.reward
         done = env_state.done > 0
         counted = (info["terminated"] & ~info["blew_up"]

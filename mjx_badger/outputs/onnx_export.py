@@ -62,7 +62,8 @@ def saved(results_file: Path, seed: int | None) -> tuple[dict, TrainConfig, poli
         raise ValueError(f"no results file {str(path)!r}")
     document = results.read(path)
     if "policy" not in document:
-        raise ValueError(f"{path} has no saved policy (complete runs since policies are saved have one)")
+        why = policy.unsupported(document.get("config", {}).get("agent", {}))
+        raise ValueError(f"{path} has no saved policy: {why or 'complete runs since policies are saved have one'}")
     if not (path.parent / document["policy"]).is_file():
         raise ValueError(f"{path}: its saved policy {str(path.parent / document['policy'])!r} is missing")
     actor = policy.load(path.parent / document["policy"], seed)  # names the seeds it holds

@@ -110,6 +110,8 @@ class Protocol:
         """The algorithm's configuration under this protocol; the crossq_* settings and the target entropy go to
         every algorithm of CrossQ's kind (AgentConfig.is_crossq), not to a name."""
         config = ALGORITHMS[algo]()
+        if not config.from_thesis:
+            return config  # what the protocols settle is how the thesis ran its four; a newer agent runs as published
         crossq = config.is_crossq
         config = config.replace(log_std_clip=self.log_std_bounds == "clip")
         if self.temperature == "thesis-code":

@@ -22,11 +22,21 @@ import numpy as np
 from mjx_badger.core import safe_io
 
 FORMAT = "mjx_badger.policy/1"
-RENORM_EPSILON = 1e-3  # agents/networks.BatchRenorm's
+RENORM_EPSILON = 1e-3  # agents/layers.BatchRenorm's
 
 
 def path_for(results_path: Path) -> Path:
     return Path(results_path).with_suffix(".policy.npz")
+
+
+def unsupported(agent: dict) -> str:
+    """'' or why an actor of these agent settings (a results file's config["agent"]) has no NumPy policy: the format
+    holds the thesis's agents' dense, ReLU and batch-renorm layers only."""
+    if agent.get("trunk", "mlp") != "mlp":
+        return f"{agent['name']}'s {agent['trunk']!r} network is not in the NumPy policy format (thesis agents' only)"
+    if agent.get("observation_norm"):
+        return f"{agent['name']} standardises its observations, which the NumPy policy format does not hold"
+    return ""
 
 
 def actor_layers(hidden_layers: int, batch_renorm: bool) -> list[dict]:

@@ -12,7 +12,7 @@ from mjx_badger.tasks import locomotion as tasks
 
 @pytest.mark.parametrize("changes, message", [
     ({"approach": "jt-xyz"}, "unknown approach 'jt-xyz'; choose from jt-nf, jt-lpf"),
-    ({"algo": "ppo"}, "unknown algorithm 'ppo'; choose from sac, sac-utd20, droq, crossq"),
+    ({"algo": "ppo"}, "unknown algorithm 'ppo'; choose from sac, sac-utd20, droq, crossq, xqc, simbav2, bro, fastsac"),
     ({"task": "jump"}, "unknown task 'jump'; choose from forward"),
     ({"protocol": "thesis-paper"}, "unknown protocol 'thesis-paper'"),
     ({"approach_params": (("cutoff_hz", 1.0),)}, "approach 'jt-oef' takes min_cutoff, beta, d_cutoff, not cutoff_hz"),

@@ -1,5 +1,6 @@
 """Saved policies: the NumPy actor acts as the JAX agent does, and loading it needs no JAX."""
 
+import dataclasses
 import subprocess
 import sys
 
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 
 from mjx_badger.agents.agent import make_agent
+from mjx_badger.agents.config import ALGORITHMS
 from mjx_badger.protocol import protocols
 from mjx_badger.records import policy
 
@@ -50,3 +52,10 @@ def test_a_saved_policy_loads_and_acts_without_jax(tmp_path):
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     np.testing.assert_allclose(eval(done.stdout), np.tanh([0.8, 0.8]), atol=1e-6)  # relu(2) x 4 x 0.1
+
+
+def test_a_newer_agents_network_is_named_as_outside_the_numpy_format():
+    assert policy.unsupported(dataclasses.asdict(ALGORITHMS["crossq"]())) == ""
+    assert "'xqc' network is not in the NumPy policy format" in policy.unsupported(
+        dataclasses.asdict(ALGORITHMS["xqc"]()))
+    assert policy.unsupported({"name": "mine", "observation_norm": True}).startswith("mine standardises")
