@@ -78,7 +78,7 @@ class Sweep(Runs):
             print(f"error: {error}", file=sys.stderr)
             return 2
         for document in documents:
-            print(f"wrote {self.out / document['policy'].replace('.policy.npz', '.json')}")
+            print(f"wrote {self.out / document['agents'].replace('.agents', '.json')}")  # every agent has these
         print(f"{len(documents)} members x {self.seeds} seeds: {documents[0]['wall_clock']['seed_steps_per_s']} "
               f"seed-steps/s, compile {documents[0]['wall_clock']['compile_s']} s")
         return 0
