@@ -27,8 +27,8 @@ class Reproduce:
     protocol: ProtocolName = "thesis-code"
     """thesis-code: as the thesis's released code ran it; thesis-text: as the thesis reads."""
     experiments: tuple[ExperimentName, ...] = ("simulation",)
-    """Experiments, or groups of them: 'simulation' (the five simulation experiments) or 'real' (the real-world
-    ones under on-robot conditions, §5.2)."""
+    """Experiments, or groups of them: 'simulation' (the five simulation experiments), 'real' (the real-world
+    ones under on-robot conditions, §5.2) or 'agents' (the thesis's agents beside four newer ones, docs/agents.md)."""
     results_dir: Path = Path("results")
     """Where the runs are written (<results-dir>/<profile>/<protocol>/<experiment>/)."""
     figures_dir: Optional[Path] = None

@@ -9,6 +9,7 @@ import dataclasses
 import re
 from pathlib import Path
 
+from mjx_badger.agents.config import THESIS_ALGORITHMS
 from mjx_badger.learning.config import TrainConfig
 from mjx_badger.records import results
 
@@ -89,7 +90,8 @@ class Experiment:
     """Steps per run whatever the profile (the real-world experiments' 20k, Table 5.5's 50k, §5.2.3; smoke still
     shortens them)."""
     group: str = "simulation"
-    """'simulation' (the default set `reproduce` runs) or 'real' (the real-world experiments, §5.2)."""
+    """'simulation' (the default set `reproduce` runs), 'real' (the real-world experiments, §5.2) or 'agents' (the
+    thesis's agents beside newer ones)."""
 
     def label(self, run: Run) -> str:
         """The name a run goes by in figures and tables: its approach or algorithm, or (compares 'label') the
@@ -297,7 +299,23 @@ EXPERIMENTS.update({
         group="real",
     ),
 })
-GROUPS = {group: tuple(name for name, e in EXPERIMENTS.items() if e.group == group) for group in ("simulation", "real")}
+
+# Beyond the thesis: its four agents beside four newer ones (docs/agents.md), as Fig 5.2 compares them. Not in the
+# default set: the newer agents' updates cost 15-50 times CrossQ's on a CPU (benchmarks/bench_agents.py), so these
+# take about two days at quick on 2 cores; `reproduce --experiments agents` runs them, on a GPU best.
+AGENTS = THESIS_ALGORITHMS + ("xqc", "simbav2", "bro", "fastsac")
+
+
+def _agents(name: str, approach: str) -> Experiment:
+    comparison = EXPERIMENTS["algo-comparison"]
+    return Experiment(name=name, thesis_figure="Fig 5.2", runs=tuple(Run(approach, a, "forward") for a in AGENTS),
+                      compares="algo", thesis_numbers={a: comparison.thesis_numbers.get(a, {}) for a in AGENTS},
+                      step_caps=comparison.step_caps, figures=("algorithms",), x_axis="minutes", group="agents")
+
+
+EXPERIMENTS.update({"agents": _agents("agents", "jt-nf"), "agents-cpg": _agents("agents-cpg", "cpg-vf")})
+GROUPS = {group: tuple(name for name, e in EXPERIMENTS.items() if e.group == group)
+          for group in ("simulation", "real", "agents")}
 """`reproduce --experiments simulation` (the default) or `real`."""
 
 

@@ -8,7 +8,18 @@ from mjx_badger.experiments.registry import EXPERIMENTS, PROFILES, Run
 def test_groups_expand_into_their_experiments_once_each():
     assert registry.GROUPS["simulation"] == ("algo-comparison", "forward", "forward-max", "omni-random", "omni-pdec")
     assert registry.expand(["forward", "simulation"])[:2] == ("forward", "algo-comparison")
-    assert len(registry.expand(["simulation", "real", "real"])) == len(EXPERIMENTS)
+    assert len(registry.expand(["simulation", "real", "real", "agents"])) == len(EXPERIMENTS)
+
+
+def test_the_agents_experiments_put_the_newer_agents_beside_fig_5_2s_four():
+    agents, comparison = EXPERIMENTS["agents"], EXPERIMENTS["algo-comparison"]
+    assert [r.algo for r in agents.runs] == ["sac", "sac-utd20", "droq", "crossq", "xqc", "simbav2", "bro", "fastsac"]
+    assert {r.approach for r in agents.runs} == {"jt-nf"} and {r.approach for r in EXPERIMENTS["agents-cpg"].runs} == {
+        "cpg-vf"}
+    assert agents.thesis_numbers["crossq"] == comparison.thesis_numbers["crossq"] and agents.x_axis == "minutes"
+    # The thesis's four are the comparison's very runs: reproduce copies them rather than training them again.
+    assert agents.train_config(agents.runs[3], "quick") == comparison.train_config(comparison.runs[3], "quick")
+    assert "agents" not in registry.GROUPS["simulation"] and registry.GROUPS["agents"] == ("agents", "agents-cpg")
 
 
 def test_a_runs_steps_follow_its_profile_its_caps_and_the_real_worlds_20k_and_table_5_5s_50k():
