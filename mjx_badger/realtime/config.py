@@ -76,11 +76,6 @@ class RealtimeConfig(RunSpec):
             raise ValueError("cpg-rt averages two PD torques per joint, which only the simulator can do; "
                              "on a robot use cpg-rt-avg (averaged joint angles, what the thesis's robot ran) "
                              "or cpg-rt-sum")
-        agent = self.agent_config
-        if agent.observation_norm or agent.reward_scaling != "none" or agent.resets:
-            # The learner thread does not yet feed each stored step to the agent's running moments nor reset it.
-            raise ValueError(f"{self.algo} normalises observations or rewards or resets, which the on-robot loop does "
-                             f"not do yet; it runs the agents without: sac, sac-utd20, droq, crossq")
         if self.planned_contacts and not is_cpg(self.approach):
             raise ValueError("planned contacts come from the CPG's phase; the joint-target approaches have none")
         physics_hz = round(1.0 / self.robot_spec.physics_dt)

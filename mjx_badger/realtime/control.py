@@ -72,7 +72,9 @@ def build(config: RealtimeConfig):
     env = HB40Env(config.approach, task, EnvConfig(control_hz=config.hz, protocol=protocol,
                                                    conditions=config.conditions_spec), config.robot_spec,
                   config.approach_params)
-    agent = make_agent(config.agent_config, env.observation_size, env.action_size)
+    # A learning-rate schedule (XQC, SimbaV2) runs over the updates the loop is allowed to make.
+    updates = max(1, round((config.steps - config.warmup_steps) * config.utd))
+    agent = make_agent(config.agent_config, env.observation_size, env.action_size, total_updates=updates)
     has_cpg = is_cpg(config.approach)
 
     @jax.jit

@@ -34,6 +34,13 @@ class HostReplay:
             return Transition(self.obs[index], self.action[index], self.reward[index], self.next_obs[index],
                               self.discount[index])
 
+    def rows(self, start: int):
+        """(obs, reward, discount, end): the steps stored from number `start` on, in the order they came."""
+        with self._lock:
+            end = self.size
+            index = np.arange(start, end) % len(self.reward)
+            return self.obs[index], self.reward[index], self.discount[index], end
+
     def save(self, path: Path) -> None:
         with self._lock:
             safe_io.save_npz(path, obs=self.obs, action=self.action, reward=self.reward, next_obs=self.next_obs,

@@ -75,8 +75,11 @@ def _run(config: RealtimeConfig, bot: Robot, out_dir: Path, resume: bool, view: 
     gc.collect()
     gc.freeze()
 
-    learner = Learner(update, agent_state, buffer, config.agent_config.batch_size, learner_key,
-                      replay_ratio_cap(config, progress), learner_updates)
+    cfg = config.agent_config
+    feeds = cfg.observation_norm or cfg.reward_scaling != "none" or cfg.resets  # the newer agents' extras
+    learner = Learner(update, agent_state, buffer, cfg.batch_size, learner_key, replay_ratio_cap(config, progress),
+                      learner_updates, agent=agent if feeds else None, step=lambda: progress.step)
+    learner.prepare()
     started = results.now()
     with scheduling.control_thread(lock_memory) as (realtime, locked):
         timing = report.timing_log(realtime, locked, scheduling.major_page_faults())

@@ -12,7 +12,6 @@ def test_bad_settings_are_refused_before_anything_compiles():
         RealtimeConfig(approach="cpg-rt").validate()
     with pytest.raises(ValueError, match="planned contacts"):
         RealtimeConfig(approach="jt-oef", planned_contacts=True).validate()
-    for algo in ("xqc", "simbav2", "bro", "fastsac"):  # what the learner thread does not feed them yet
-        with pytest.raises(ValueError, match=f"^{algo} normalises observations or rewards or resets"):
-            RealtimeConfig(algo=algo).validate()
+    for algo in ("xqc", "simbav2", "bro", "fastsac"):  # the learner thread feeds the newer agents what they need
+        RealtimeConfig(algo=algo).validate()
     assert not conftest.COMPILES[compiles:]  # nothing traced, compiled or loaded from the cache
