@@ -18,6 +18,9 @@ from mjx_badger.experiments.registry import EXPERIMENTS, GROUPS, PROFILES
 UPDATE_COST = 2.2
 """One gradient update costs about this many env steps of the same seeds (quick runs on a 2-core CPU:
 a forward CrossQ step with its evaluation share 8.7 ms per seed, an omni one 14-17 ms, SAC-UTD20 97 ms)."""
+AGENT_UPDATE_COST = {"xqc": 18.4, "simbav2": 48.8, "bro": 10.7, "fastsac": 6.4}
+"""A newer agent's update over a thesis agent's, their larger networks (benchmarks/results/bench_agents.json:
+SAC 126.8 updates/s at batch 256; XQC 6.9, SimbaV2 2.6, BRO 11.8, FastSAC 19.9 on the same 2-core CPU)."""
 OTHER_COST_PER_COMMAND = 0.07
 """Each evaluation command beyond the first adds this share to a run's compile (quick runs on a 2-core CPU:
 30-48 s for the forward tasks' one command, 45-76 s for the omni tasks' eight)."""
@@ -49,7 +52,7 @@ def planned(config, seeds: int, copy: bool = False) -> Planned:
     """The ETA's view of the TrainConfig `config` run for `seeds` seeds."""
     commands = len(config.make_task().eval_commands)
     learning_steps = config.total_steps - config.warmup_steps
-    updates = UPDATE_COST * config.agent_config.updates_per_step * learning_steps
+    updates = UPDATE_COST * AGENT_UPDATE_COST.get(config.algo, 1.0) * config.agent_config.updates_per_step * learning_steps
     work = seeds * (config.total_steps + updates + config.num_chunks * commands * config.eval_steps)
     return Planned(work, config.task, 1.0 + OTHER_COST_PER_COMMAND * (commands - 1), copy)
 

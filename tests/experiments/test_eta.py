@@ -35,3 +35,10 @@ def test_the_eta_counts_updates_evaluations_and_copies():
     assert eta.seconds_left([utd], done) == pytest.approx(utd.work / plan.work * 100.0 + 30.0)
     # A task not seen yet: the compile and recording of the seen ones, scaled by its evaluation commands.
     assert eta.seconds_left([omni], done) == pytest.approx(omni.work / plan.work * 100.0 + 30.0 * omni.other_weight)
+
+
+def test_a_newer_agents_updates_weigh_what_they_cost_beside_a_thesis_agents():
+    crossq, xqc = (TrainConfig(approach="jt-nf", algo=a, total_steps=2000, warmup_steps=1000) for a in ("crossq", "xqc"))
+    # 1000 learning steps: CrossQ one update each, XQC two, each 18.4 of a thesis agent's; the rest is the same.
+    extra = eta.planned(xqc, 1).work - eta.planned(crossq, 1).work
+    assert extra == pytest.approx(eta.UPDATE_COST * 1000 * (2 * 18.4 - 1))
