@@ -6,7 +6,7 @@ from typing import Annotated
 
 import tyro
 
-from mjx_badger.agents.config import ADDED_LATER, AgentConfig
+from mjx_badger.agents.config import AgentConfig
 from mjx_badger.control import actions
 from mjx_badger.core import validation
 from mjx_badger.learning.spec import RunSpec
@@ -99,11 +99,6 @@ def from_results(document: dict) -> TrainConfig:
 def _as_written_then(stored: dict) -> dict:
     """`stored` with each condition field added since it was written (conditions.ADDED_LATER) set, in its conditions
     and as a condition change where it differs from the named conditions' value today: the run as it ran."""
-    agent = stored.get("agent")
-    if agent is not None and any(field not in agent for field in ADDED_LATER):
-        # Every run written before the newer agents' fields ran those fields' defaults.
-        defaults = {f.name: f.default for f in dataclasses.fields(AgentConfig) if f.name in ADDED_LATER}
-        stored = {**stored, "agent": {**json.loads(json.dumps(defaults)), **agent}}
     written = (stored.get("env") or {}).get("conditions")
     if written is None:
         return stored

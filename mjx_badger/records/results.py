@@ -50,6 +50,7 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
+from mjx_badger.agents.config import ADDED_LATER
 from mjx_badger.core import safe_io
 from mjx_badger.core.paths import REPOSITORY
 
@@ -112,6 +113,7 @@ def hardware() -> dict:
 # value, so that a run without them writes (and rebuilds from) the same document as before they existed.
 LATER_ENV_FIELDS = {"sensing": None, "conditions": None}
 LATER_RUN_FIELDS = {"conditions": "sim", "condition_changes": ()}
+# The agent settings added with the newer agents (agents.config.ADDED_LATER) are left out at their defaults too.
 
 
 def config_dict(config) -> dict:
@@ -120,7 +122,10 @@ def config_dict(config) -> dict:
     data = {k: v for k, v in data.items() if k not in LATER_RUN_FIELDS or v != LATER_RUN_FIELDS[k]}
     data["env"] = dataclasses.asdict(config.env_config)
     data["env"] = {k: v for k, v in data["env"].items() if k not in LATER_ENV_FIELDS or v != LATER_ENV_FIELDS[k]}
-    data["agent"] = dataclasses.asdict(config.agent_config)
+    agent = config.agent_config
+    defaults = {f.name: f.default for f in dataclasses.fields(agent)}
+    data["agent"] = {k: v for k, v in dataclasses.asdict(agent).items()
+                     if k not in ADDED_LATER or v != defaults[k]}  # a thesis agent's document as it always read
     return data
 
 

@@ -46,3 +46,14 @@ def test_wall_time_passes_over_the_checkpoints_of_a_running_run(tmp_path):
     results.write(folder / "algo-comparison" / "jt-nf_crossq_forward.json", document)
     assert results.wall_time_words(folder, ("forward", "algo-comparison")) == (
         "1 run in 1.00 h (compile 1.0 min of it; 1 more a copy of one of them)")
+
+
+def test_a_thesis_agents_settings_read_as_before_the_newer_agents_and_a_newer_ones_name_theirs():
+    from mjx_badger.agents.config import ADDED_LATER
+    from mjx_badger.learning.config import TrainConfig
+
+    crossq = results.config_dict(TrainConfig(algo="crossq"))["agent"]
+    assert not set(ADDED_LATER) & set(crossq) and crossq["batch_renorm"] is True
+    bro = results.config_dict(TrainConfig(algo="bro"))["agent"]
+    assert (bro["trunk"], bro["critic_output"], bro["optimism"], bro["resets"]) == ("bro", "quantile", True, (15_000,))
+    assert "joint_pass" not in bro  # at its default
