@@ -62,9 +62,10 @@ def learning_rate(cfg: AgentConfig, updates, total_updates):
     return cfg.learning_rate + (cfg.learning_rate_end - cfg.learning_rate) * done
 
 
-def make_agent(cfg: AgentConfig, obs_size: int, action_size: int, total_updates: int = 1_000_000) -> Agent:
+def make_agent(cfg: AgentConfig, obs_size: int, action_size: int, total_updates: int = 1_000_000,
+               num_envs: int = 1) -> Agent:
     """Build the pure functions of the agent `cfg` for the given observation and action sizes; a learning-rate
-    schedule runs over `total_updates`."""
+    schedule runs over `total_updates`; `observe` takes `num_envs` environments' steps at once (1: unbatched)."""
     actor = Actor(action_size=action_size, hidden=cfg.hidden, batch_renorm=cfg.actor_batch_renorm,
                   renorm_momentum=cfg.renorm_momentum, renorm_warmup_steps=cfg.renorm_warmup_steps,
                   log_std_clip=cfg.log_std_clip, trunk=cfg.trunk, log_std_range=cfg.log_std_range)
@@ -93,6 +94,12 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int, total_updates:
         updates, opt_state = opt.update(grads, opt_state, params)
         return project(optax.apply_updates(params, updates)), opt_state
 
+    def alpha_step(state: AgentState, log_prob, rate) -> AgentState:
+        """One step of the temperature towards its target entropy, from these log-probabilities."""
+        alpha_grad = jax.grad(losses.alpha)(state.log_alpha, log_prob)
+        log_alpha, alpha_opt = step(alpha_optimizer, alpha_grad, state.alpha_opt, state.log_alpha, rate)
+        return state.replace(log_alpha=log_alpha, alpha_opt=alpha_opt)
+
     def init(key) -> AgentState:
         actor_key, critic_key, shift_key = jax.random.split(key, 3)
         obs = jnp.zeros((1, obs_size))
@@ -104,7 +111,7 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int, total_updates:
         log_alpha = jnp.log(jnp.float32(cfg.initial_alpha))
         normaliser = None
         if cfg.observation_norm or cfg.reward_scaling != "none":
-            normaliser = {"obs": normalisers.moments(obs_size), "reward": normalisers.reward_scale()}
+            normaliser = {"obs": normalisers.moments(obs_size), "reward": normalisers.reward_scale(num_envs)}
         explorer = None
         if cfg.optimism:
             shift_params = shift.init(shift_key, obs, action)
@@ -170,8 +177,11 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int, total_updates:
         """
         critic_key, actor_key = jax.random.split(key)
         batch = prepared(state, batch)
-        rate = None if cfg.learning_rate_end is None else learning_rate(cfg, state.updates, total_updates)
-        (_, (stats, metrics)), grads = jax.value_and_grad(losses.critic, has_aux=True)(
+        rate = actor_rate = None
+        if cfg.learning_rate_end is not None:  # each optimiser's schedule counts its own steps (RL-X's optax ones)
+            rate = learning_rate(cfg, state.updates, total_updates)
+            actor_rate = learning_rate(cfg, state.updates // cfg.policy_delay, total_updates)
+        (_, (stats, metrics, next_log_prob)), grads = jax.value_and_grad(losses.critic, has_aux=True)(
             state.critic_params, state.critic_stats, state.target_params, state.actor_params, state.actor_stats,
             state.log_alpha, batch, critic_key)
         critic_params, critic_opt = step(optimizer, grads, state.critic_opt, state.critic_params, rate)
@@ -180,16 +190,17 @@ def make_agent(cfg: AgentConfig, obs_size: int, action_size: int, total_updates:
             target_params = optax.incremental_update(critic_params, target_params, cfg.tau)
         state = state.replace(critic_params=critic_params, critic_stats=stats, critic_opt=critic_opt,
                               target_params=target_params, updates=state.updates + 1)
+        if cfg.alpha_every_update:  # FastSAC: the temperature steps with the critic, on the next states' entropy
+            state = alpha_step(state, next_log_prob, rate)
 
         def actor_step(state):
             (loss, (log_prob, actor_stats)), grads = jax.value_and_grad(losses.actor, has_aux=True)(
                 state.actor_params, state.actor_stats, state.critic_params, state.critic_stats, state.log_alpha,
                 batch.obs, actor_key)
-            actor_params, actor_opt = step(optimizer, grads, state.actor_opt, state.actor_params, rate)
-            alpha_grad = jax.grad(losses.alpha)(state.log_alpha, log_prob)
-            log_alpha, alpha_opt = step(alpha_optimizer, alpha_grad, state.alpha_opt, state.log_alpha, rate)
-            state = state.replace(actor_params=actor_params, actor_stats=actor_stats, actor_opt=actor_opt,
-                                  log_alpha=log_alpha, alpha_opt=alpha_opt)
+            actor_params, actor_opt = step(optimizer, grads, state.actor_opt, state.actor_params, actor_rate)
+            state = state.replace(actor_params=actor_params, actor_stats=actor_stats, actor_opt=actor_opt)
+            if not cfg.alpha_every_update:
+                state = alpha_step(state, log_prob, actor_rate)
             if cfg.optimism:
                 state = state.replace(optimism=optimistic_step(state, batch.obs, jax.random.fold_in(actor_key, 1)))
             return state, loss, -jnp.mean(log_prob)

@@ -84,9 +84,13 @@ class AgentConfig:
     learning_rate_end: float | None = None
     """The learning rate falls linearly to this over the run's updates; None: constant."""
     resets: tuple = ()
-    """Environment steps at which every network and optimiser starts afresh, the replay kept (BRO)."""
+    """Steps of the run at which every network and optimiser starts afresh, the replay kept (BRO; with several
+    environments per seed, a step is one of each)."""
     optimism: bool = False
     """BRO's optimistic exploration policy (agents.optimism)."""
+    alpha_every_update: bool = False
+    """The temperature steps with every critic update, on the next states' log-probabilities (FastSAC); else with
+    the actor, on its own samples'."""
 
     def __post_init__(self):
         if self.batch_renorm and self.target_network:
@@ -120,7 +124,7 @@ class AgentConfig:
 
 ADDED_LATER = ("from_thesis", "trunk", "critic_hidden", "log_std_range", "critic_output", "atoms", "value_range",
                "ensemble_rule", "joint_pass", "weight_norm", "observation_norm", "reward_scaling", "g_max", "adam_b2",
-               "weight_decay", "learning_rate_end", "resets", "optimism")
+               "weight_decay", "learning_rate_end", "resets", "optimism", "alpha_every_update")
 """AgentConfig's fields added with the newer agents; a results file written before them ran their defaults."""
 
 
@@ -191,7 +195,7 @@ def fastsac() -> AgentConfig:
         tau=0.125, trunk="layernorm", hidden=(512, 256, 128), critic_hidden=(768, 384, 192),
         critic_output="categorical", value_range=(-20.0, 20.0), ensemble_rule="own", observation_norm=True,
         adam_b2=0.95, weight_decay=1e-3, initial_alpha=1e-3, target_entropy=0.0, log_std_range=(-5.0, 0.0),
-        alpha_loss_scaled=True, from_thesis=False)
+        alpha_every_update=True, alpha_loss_scaled=True, from_thesis=False)
 
 
 class Algorithm(NamedTuple):

@@ -56,7 +56,7 @@ def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
 
     def critic_loss(critic_params, critic_stats, target_params, actor_params, actor_stats, log_alpha,
                     batch: Transition, key):
-        """Soft Bellman residual; returns (loss, (new batch stats, metrics))."""
+        """Soft Bellman residual; returns (loss, (new batch stats, metrics, log pi(a'|s') of the target's actions))."""
         policy_key, dropout_key = jax.random.split(key)
         target_key = jax.random.fold_in(dropout_key, 1)
         next_action, next_log_prob = policy(actor_params, actor_stats, batch.next_obs, policy_key)
@@ -87,7 +87,7 @@ def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
         shift = jax.lax.stop_gradient(jnp.exp(log_alpha) * next_log_prob)
         loss = bellman_loss(q, jax.tree.map(jax.lax.stop_gradient, next_q), batch, shift)
         metrics = {"critic_loss": loss, "q_mean": jnp.mean(expected(q))}
-        return loss, (updated.get("batch_stats", {}), metrics)
+        return loss, (updated.get("batch_stats", {}), metrics, jax.lax.stop_gradient(next_log_prob))
 
     def bellman_loss(q, next_q, batch, shift):
         """The critics' loss against r + gamma d (next value - alpha log pi), by the critic's kind of output."""

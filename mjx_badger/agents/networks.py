@@ -36,7 +36,8 @@ class Actor(nn.Module):
     def __call__(self, obs, train: bool = False):
         if self.trunk != "mlp":
             x = make_trunk(self.trunk, self.hidden)(obs, train)
-            return self.bounded(head(self.trunk, self.action_size)(x), head(self.trunk, self.action_size, 1.0)(x))
+            return self.bounded(head(self.trunk, self.action_size, policy=True)(x),
+                                head(self.trunk, self.action_size, 1.0, policy=True)(x))
         norm = lambda: BatchRenorm(momentum=self.renorm_momentum, warmup_steps=self.renorm_warmup_steps)
         x = norm()(obs, train) if self.batch_renorm else obs
         for width in self.hidden:

@@ -48,8 +48,10 @@ class RewardScale(struct.PyTreeNode):
     largest: jnp.ndarray
 
 
-def reward_scale() -> RewardScale:
-    return RewardScale(returns=jnp.float32(0.0), moments=moments(), largest=jnp.float32(0.0))
+def reward_scale(num_envs: int = 1) -> RewardScale:
+    """Nothing seen yet, for one environment's returns or `num_envs` of them."""
+    returns = jnp.float32(0.0) if num_envs == 1 else jnp.zeros(num_envs)
+    return RewardScale(returns=returns, moments=moments(), largest=jnp.float32(0.0))
 
 
 def observe_reward(scale: RewardScale, reward, done, gamma: float) -> RewardScale:

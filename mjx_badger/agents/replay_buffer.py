@@ -39,3 +39,13 @@ def sample(buffer: ReplayBuffer, key, batch_size: int) -> Transition:
     """A uniform batch (with replacement) of the stored transitions."""
     index = jax.random.randint(key, (batch_size,), 0, jnp.maximum(buffer.size, 1))
     return jax.tree.map(lambda store: store[index], buffer.data)
+
+
+def add_many(buffer: ReplayBuffer, transitions: Transition) -> ReplayBuffer:
+    """Store a batch of transitions (N, ...) in the next N slots, overwriting the oldest when full."""
+    capacity = buffer.data.reward.shape[0]
+    count = transitions.reward.shape[0]
+    slots = (buffer.position + jnp.arange(count)) % capacity
+    data = jax.tree.map(lambda store, x: store.at[slots].set(x), buffer.data, transitions)
+    return buffer.replace(data=data, position=(buffer.position + count) % capacity,
+                          size=jnp.minimum(buffer.size + count, capacity))

@@ -145,11 +145,11 @@ def make_trunk(kind: str, widths: Sequence[int]) -> nn.Module:
     return bodies[kind](widths=tuple(widths))
 
 
-def head(kind: str, size: int, scale: float = math.sqrt(2), bias: bool = True) -> nn.Module:
-    """The output layer of a body: SimbaV2's hyperspherical head, else a dense layer (orthogonal, as XQC and BRO
-    initialise theirs)."""
+def head(kind: str, size: int, scale: float = math.sqrt(2), policy: bool = False) -> nn.Module:
+    """The output layer of a body: SimbaV2's hyperspherical head; FastSAC's policy heads start at zero, its critic's
+    as flax's dense layers do; else orthogonal, as XQC and BRO initialise theirs."""
     if kind == "simba":
         return HyperHead(size)
-    if kind == "layernorm":  # FastSAC starts its heads at zero
-        return nn.Dense(size, use_bias=bias, kernel_init=nn.initializers.zeros)
-    return nn.Dense(size, use_bias=bias, kernel_init=orthogonal(scale))
+    if kind == "layernorm":
+        return nn.Dense(size, kernel_init=nn.initializers.zeros) if policy else nn.Dense(size)
+    return nn.Dense(size, kernel_init=orthogonal(scale))

@@ -33,6 +33,9 @@ class TrainConfig(RunSpec):
     """Uniform random actions before learning starts (thesis §5.1: 1000)."""
     eval_steps: int = 400
     """Length of each deterministic evaluation run after every chunk."""
+    num_envs: int = 1
+    """Environments per seed, stepped together, feeding one learner and its replay (FastSAC's regime: hundreds);
+    each step of the run is one step of every one of them. The thesis ran one."""
     gait_seconds: float = 4.0
     """Simulated seconds of the deterministic run after training; its second half is kept as the gait record."""
     env: tyro.conf.Suppress[EnvConfig | None] = None
@@ -48,6 +51,7 @@ class TrainConfig(RunSpec):
                 raise ValueError(f"{name} must be a positive number of steps, not {getattr(self, name)}")
         if self.warmup_steps < 0:
             raise ValueError(f"warmup_steps must not be negative, not {self.warmup_steps}")
+        validation.integer("num_envs", self.num_envs, 1, 4096)
         if self.chunk_steps > self.total_steps:
             raise ValueError(f"chunk_steps ({self.chunk_steps}) must not exceed total_steps ({self.total_steps})")
         if self.warmup_steps >= self.total_steps:

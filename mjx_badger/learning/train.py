@@ -25,6 +25,8 @@ ESTIMATED = ("estimated_forward_velocity", "estimated_lateral_velocity", "estima
 """The onboard estimate's metrics, beside the true ones, where the env senses (on-robot conditions)."""
 STOPS = ("stops_before_fall", "premature_stops")
 """Safety stops the truth shows no fall at, and those only the sensors' noise made (on-robot conditions, §6.4)."""
+SUMMED = ("episode_end", "finished_return", "falls_total", "would_falls", "blowups") + STOPS
+"""Step metrics that count, summed over a seed's environments when it has several (the others are averaged)."""
 
 
 class Carry(struct.PyTreeNode):
@@ -63,19 +65,24 @@ def make_train(config: TrainConfig) -> Trainer:
     task = tasks.make_task(config.task, env_config.protocol.rewards, env_config.protocol.curriculum,
                            **dict(config.task_params))
     env = HB40Env(config.approach, task, env_config, config.robot_spec, config.approach_params)
+    envs = config.num_envs
+    batched = envs > 1  # several environments per seed: each stepped alike, all feeding the one learner
     agent = make_agent(cfg, env.observation_size, env.action_size,
-                       total_updates=(config.total_steps - config.warmup_steps) * cfg.updates_per_step)
-    capacity = config.num_chunks * config.chunk_steps
+                       total_updates=(config.total_steps - config.warmup_steps) * cfg.updates_per_step, num_envs=envs)
+    capacity = config.num_chunks * config.chunk_steps * envs
+    reset_envs = jax.vmap(env.reset) if batched else env.reset
+    step_envs = jax.vmap(env.step) if batched else env.step
+    store = replay_buffer.add_many if batched else replay_buffer.add
 
     def init(key) -> Carry:
         key, env_key, agent_key, eval_key = jax.random.split(key, 4)
         return Carry(
-            env_state=env.reset(env_key),
+            env_state=reset_envs(jax.random.split(env_key, envs) if batched else env_key),
             agent_state=agent.init(agent_key),
             buffer=replay_buffer.init(capacity, env.observation_size, env.action_size),
             key=key,
             eval_key=eval_key,
-            episode_return=jnp.float32(0.0),
+            episode_return=jnp.zeros(envs) if batched else jnp.float32(0.0),
             falls=jnp.int32(0),
             diverged_at=jnp.int32(-1),
         )
@@ -104,16 +111,16 @@ def make_train(config: TrainConfig) -> Trainer:
         key, act_key, explore_key, learn_key = jax.random.split(carry.key, 4)
         obs = carry.env_state.obs
         policy_action = agent.act(carry.agent_state, obs, act_key)
-        random_action = jax.random.uniform(explore_key, (env.action_size,), minval=-1.0, maxval=1.0)
+        random_action = jax.random.uniform(explore_key, obs.shape[:-1] + (env.action_size,), minval=-1.0, maxval=1.0)
         action = jnp.where(step < config.warmup_steps, random_action, policy_action)
-        env_state = env.step(carry.env_state, action)
+        env_state = step_envs(carry.env_state, action)
         info = env_state.info
         next_obs = info["next_obs"]
         if protocol.bootstraps_from_next_episode(config.algo):
             # The released replay's next state is the following row: at a time-out, the next episode's start.
-            next_obs = jnp.where(info["truncated"], env_state.obs, next_obs)
+            next_obs = jnp.where(info["truncated"][..., None], env_state.obs, next_obs)
         transition = Transition(obs, action, env_state.reward, next_obs, 1.0 - info["terminated"].astype(jnp.float32))
-        buffer = replay_buffer.add(carry.buffer, transition)
+        buffer = store(carry.buffer, transition)
         agent_state = agent.observe(carry.agent_state, obs, env_state.reward, env_state.done)
         if cfg.resets:
             agent_state = jax.lax.cond(jnp.isin(step, jnp.asarray(cfg.resets)), agent.reset, lambda s, k: s,
@@ -124,7 +131,7 @@ def make_train(config: TrainConfig) -> Trainer:
         done = env_state.done > 0
         counted = (info["terminated"] & ~info["blew_up"]
                    & ((step >= config.warmup_steps) | (not protocol.falls_after_warmup)))
-        falls = carry.falls + counted.astype(jnp.int32)
+        falls = carry.falls + jnp.sum(counted).astype(jnp.int32)
         step_metrics = dict(
             env_state.metrics,
             reward=env_state.reward,
@@ -137,6 +144,9 @@ def make_train(config: TrainConfig) -> Trainer:
             **{k: info[k].astype(jnp.float32) for k in STOPS if k in info},  # on-robot conditions only
             **learn_metrics,
         )
+        if batched:  # one number per step, as one environment gives: counts summed over the environments, the rest averaged
+            step_metrics = {k: (jnp.sum(v, axis=0) if k in SUMMED else jnp.nanmean(v, axis=0)) if jnp.ndim(v) else v
+                            for k, v in step_metrics.items()}
         carry = carry.replace(env_state=env_state, agent_state=agent_state, buffer=buffer, key=key,
                               episode_return=jnp.where(done, 0.0, episode_return), falls=falls)
         return carry, step_metrics

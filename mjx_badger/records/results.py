@@ -112,7 +112,7 @@ def hardware() -> dict:
 # Fields added after results were first committed, with the value that means "as before": left out at that
 # value, so that a run without them writes (and rebuilds from) the same document as before they existed.
 LATER_ENV_FIELDS = {"sensing": None, "conditions": None}
-LATER_RUN_FIELDS = {"conditions": "sim", "condition_changes": ()}
+LATER_RUN_FIELDS = {"conditions": "sim", "condition_changes": (), "num_envs": 1}
 # The agent settings added with the newer agents (agents.config.ADDED_LATER) are left out at their defaults too.
 
 

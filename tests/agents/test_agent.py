@@ -62,7 +62,8 @@ def test_a_newer_agent_learns_and_keeps_what_its_components_promise(name):
         assert float(observed.normaliser["obs"].count) > 0.9 and float(observed.normaliser["reward"].largest) == 2.0
     else:
         assert observed is state
-    new, metrics = jax.jit(learner.update)(observed, random_batch(jax.random.PRNGKey(1)), jax.random.PRNGKey(2), 0)
+    update = jax.jit(learner.update)
+    new, metrics = update(observed, random_batch(jax.random.PRNGKey(1)), jax.random.PRNGKey(2), 0)
     assert all(np.isfinite(float(v)) for v in metrics.values()), metrics  # update 0 is every agent's actor update
     moved = lambda a, b: any(jax.tree.leaves(jax.tree.map(lambda x, y: bool(jnp.any(x != y)), a, b)))
     assert moved(new.critic_params, state.critic_params) and moved(new.actor_params, state.actor_params)
@@ -76,6 +77,10 @@ def test_a_newer_agent_learns_and_keeps_what_its_components_promise(name):
             state.optimism.beta)
         action = learner.act(new, obs, jax.random.PRNGKey(4))
         assert action.shape == (ACT,) and float(jnp.abs(action).max()) <= 1.0
+    if cfg.policy_delay > 1:  # an update without the actor's: the temperature moves only if it steps every update
+        second, _ = update(new, random_batch(jax.random.PRNGKey(5)), jax.random.PRNGKey(6), 1)
+        assert not moved(second.actor_params, new.actor_params)
+        assert (float(second.log_alpha) != float(new.log_alpha)) == cfg.alpha_every_update
     if cfg.resets:  # a reset is the first initialisation again, the update count kept
         again = learner.reset(new, jax.random.PRNGKey(0))
         assert int(again.updates) == 1 and not moved(again.critic_params, state.critic_params)

@@ -85,7 +85,7 @@ def test_critic_loss_by_hand(name):
     critic = Critic(hidden=cfg.hidden, batch_renorm=cfg.batch_renorm)
     losses = make_losses(actor, critic, cfg, 1)
     key = jax.random.PRNGKey(7)
-    loss, (_, metrics) = losses.critic(state.critic_params, state.critic_stats, state.target_params,
+    loss, (_, metrics, _) = losses.critic(state.critic_params, state.critic_stats, state.target_params,
                                        state.actor_params, state.actor_stats, state.log_alpha, HAND_BATCH, key)
     # Next actions use the first half of the key; the noise is the only thing not set by hand.
     eps = np.asarray(jax.random.normal(jax.random.split(key)[0], (3, 1)))[:, 0]

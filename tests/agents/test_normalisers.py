@@ -42,3 +42,11 @@ def test_unit_kernels_puts_each_units_incoming_weights_on_the_sphere_and_leaves_
     np.testing.assert_allclose(projected["scale"], [2.0, 2.0])
     np.testing.assert_allclose(projected["ensemble"]["kernel"], np.full((2, 4, 3), 0.5))  # per member, per unit
     assert float(normalisers.unit_kernels(jnp.float32(3.0))) == 3.0  # a bare leaf such as log alpha
+
+
+def test_each_environment_keeps_its_own_return():
+    scale = normalisers.reward_scale(3)
+    scale = normalisers.observe_reward(scale, jnp.array([1.0, 2.0, 3.0]), jnp.array([0.0, 1.0, 0.0]), 0.5)
+    scale = normalisers.observe_reward(scale, jnp.array([1.0, 1.0, 1.0]), jnp.array([0.0, 0.0, 1.0]), 0.5)
+    np.testing.assert_allclose(scale.returns, [1.5, 2.0, 1.0])  # the third ended its episode at this step
+    assert float(scale.moments.count) > 5.9  # six returns seen

@@ -30,3 +30,12 @@ def test_a_batch_comes_only_from_the_filled_part():
     batch = replay_buffer.sample(buffer, jax.random.PRNGKey(0), 256)
     assert batch.obs.shape == (256, 2) and set(np.unique(batch.reward).tolist()) == {1.0, 2.0, 3.0}
     np.testing.assert_array_equal(batch.action[:, 0], -batch.reward)  # each row one whole transition
+
+
+def test_several_environments_steps_land_in_consecutive_slots_and_wrap():
+    buffer = replay_buffer.init(5, obs_size=2, action_size=1)
+    many = lambda ks: jax.tree.map(lambda *x: jnp.stack(x), *[_transition(float(k)) for k in ks])
+    buffer = replay_buffer.add_many(buffer, many([1, 2, 3]))
+    buffer = replay_buffer.add_many(buffer, many([4, 5, 6]))  # 6 replaces 1, the oldest
+    assert int(buffer.size) == 5 and int(buffer.position) == 1
+    np.testing.assert_array_equal(buffer.data.reward, [6.0, 2.0, 3.0, 4.0, 5.0])

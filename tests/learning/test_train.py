@@ -1,6 +1,8 @@
 """The pure vmapped training loop: one trace, determinism, a smoke run, results files."""
 
 
+import dataclasses
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -71,3 +73,25 @@ def test_the_carry_holds_a_replay_buffer_for_the_whole_run_and_the_onboard_estim
     assert carry.buffer.data.reward.shape == (TINY_TRAIN.num_chunks * TINY_TRAIN.chunk_steps,)
     assert carry.buffer.data.obs.shape == (300, trainer.env.observation_size)
     assert not any(name in trainer.env._metric_names() for name in train.ESTIMATED)
+
+
+def test_several_environments_per_seed_share_one_replay_sized_for_all_of_them():
+    config = dataclasses.replace(TINY_TRAIN, num_envs=4)
+    carry = jax.eval_shape(train.make_train(config).init, jax.random.PRNGKey(0))  # shapes only: nothing compiles
+    assert carry.buffer.data.reward.shape == (4 * TINY_TRAIN.num_chunks * TINY_TRAIN.chunk_steps,)
+    assert carry.episode_return.shape == (4,) and carry.env_state.obs.shape[0] == 4
+    with pytest.raises(ValueError, match="num_envs"):
+        dataclasses.replace(TINY_TRAIN, num_envs=0).validate()
+
+
+@pytest.mark.slow  # a learning program of its own: minutes of compile
+def test_a_seed_with_several_environments_learns_and_counts_all_of_them():
+    config = dataclasses.replace(TINY_TRAIN, num_envs=3)
+    trainer = train.make_train(config)
+    carry = jax.jit(trainer.init)(jax.random.PRNGKey(0))
+    chunk = jax.jit(trainer.chunk)
+    for start in range(0, config.total_steps, config.chunk_steps):
+        carry, metrics = chunk(carry, start)
+    assert int(carry.buffer.size) == 3 * config.total_steps  # every environment's steps stored
+    assert int(metrics["train/updates"]) == config.chunk_steps  # one learner: its updates per step, not per env
+    assert np.isfinite(float(metrics["train/forward_velocity"])) and np.isfinite(float(metrics["train/critic_loss"]))
