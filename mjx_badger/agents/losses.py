@@ -132,8 +132,7 @@ def make_losses(actor, critic, cfg: AgentConfig, action_size: int) -> Losses:
         q = expected(critic.apply(critic_variables(critic_params, critic_stats), obs, action,
                                   train=cfg.dropout_rate > 0, rngs={"dropout": jax.random.fold_in(key, 1)}))
         # The actor climbs the lower critic ('min'), or their mean ('mean', 'own': BRO, FastSAC).
-        value = jnp.min(q, axis=0) if cfg.ensemble_rule == "min" else jnp.mean(q, axis=0)
-        loss = jnp.mean(jnp.exp(log_alpha) * log_prob - value)
+        loss = jnp.mean(jnp.exp(log_alpha) * log_prob - combine(q, own=False))
         return loss, (log_prob, new_stats)
 
     def apply_actor_train(actor_params, actor_stats, obs):

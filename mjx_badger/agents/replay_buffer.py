@@ -29,10 +29,7 @@ def init(capacity: int, obs_size: int, action_size: int) -> ReplayBuffer:
 
 def add(buffer: ReplayBuffer, transition: Transition) -> ReplayBuffer:
     """Store one transition, overwriting the oldest when full."""
-    capacity = buffer.data.reward.shape[0]
-    data = jax.tree.map(lambda store, x: store.at[buffer.position].set(x), buffer.data, transition)
-    return buffer.replace(data=data, position=(buffer.position + 1) % capacity,
-                          size=jnp.minimum(buffer.size + 1, capacity))
+    return add_many(buffer, jax.tree.map(lambda x: jnp.asarray(x)[None], transition))
 
 
 def sample(buffer: ReplayBuffer, key, batch_size: int) -> Transition:
