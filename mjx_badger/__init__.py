@@ -21,6 +21,23 @@ def _choose_offscreen_gl() -> None:
 
 _choose_offscreen_gl()
 
+MATMUL_PRECISION = "highest"
+"""float32 matrix products in full float32 on every device: Ampere and later GPUs otherwise use TF32 (10-bit
+mantissas), which changes a run's numbers from one GPU to another (mujoco_playground#86). A CPU computes float32
+products in full either way. JAX_DEFAULT_MATMUL_PRECISION overrides it (docs/cluster.md: what it costs)."""
+
+
+def _pin_matmul_precision() -> None:
+    """Before JAX's first computation: through its environment variable, or its config where JAX is loaded."""
+    import sys
+
+    chosen = os.environ.setdefault("JAX_DEFAULT_MATMUL_PRECISION", MATMUL_PRECISION)
+    if "jax" in sys.modules:
+        sys.modules["jax"].config.update("jax_default_matmul_precision", chosen)
+
+
+_pin_matmul_precision()
+
 GYM_ENV_ID = "mjx_badger/HB40-v0"
 
 

@@ -4,4 +4,5 @@ import sys
 
 from mjx_badger.cli.main import main
 
-sys.exit(main())
+if __name__ == "__main__":  # not when a run's process (launch.py, spawned) imports it again
+    sys.exit(main())

@@ -8,7 +8,7 @@ from typing import Annotated, Literal, Optional
 import jax
 import tyro
 
-from mjx_badger.core import cluster
+from mjx_badger.core import cluster, launch
 from mjx_badger.core.validation import INT32_MAX, integer, writable_dir
 from mjx_badger.experiments.registry import EXPERIMENTS, GROUPS, PROFILES
 from mjx_badger.learning.config import TrainConfig
@@ -65,6 +65,64 @@ class Cluster:
         if self.coordinator is None and not self.distributed:
             return
         cluster.join(self.coordinator, self.num_processes, self.process_id)
+
+
+@dataclasses.dataclass(frozen=True)
+class Launch:
+    """Where the runs train: here, one after another or several at once, or as a SLURM job array (docs/cluster.md)."""
+
+    launcher: Literal["local", "slurm"] = "local"
+    """local: on this machine; slurm: one job array through submitit, waited for, then drawn here as locally."""
+    runs_per_device: int = 1
+    """Runs at once, each in its own process sharing one device (on a GPU each with 1/N of its memory); on SLURM,
+    runs per array task."""
+    slurm_partition: Optional[str] = None
+    slurm_gpus: int = 0
+    """GPUs per array task (0: CPU nodes)."""
+    slurm_cpus: int = 2
+    slurm_mem_gb: int = 16
+    slurm_time_min: int = 240
+    """Each task's time limit; one that reaches it is requeued and resumes from its checkpoint."""
+    slurm_account: Optional[str] = None
+    slurm_qos: Optional[str] = None
+    slurm_folder: Optional[Path] = None
+    """Where submitit keeps the jobs' files and logs (default: <results-dir>/slurm)."""
+    slurm_requeues: int = 3
+    """Time-outs a task may resume from before it is given up."""
+
+    @property
+    def here(self) -> bool:
+        """Whether the runs train in this process, one after another (with progress bars and an ETA)."""
+        return self.launcher == "local" and self.runs_per_device == 1
+
+    def check(self, distributed: bool = False) -> None:
+        """ValueError for options out of range or SLURM not reachable; submits nothing."""
+        integer("--runs-per-device", self.runs_per_device, 1, 64)
+        if self.launcher == "local":
+            given = [f"--{f.name.replace('_', '-')}" for f in dataclasses.fields(self)
+                     if f.name.startswith("slurm_") and getattr(self, f.name) != f.default]
+            if given:
+                raise ValueError(f"{', '.join(given)} {'needs' if len(given) == 1 else 'need'} --launcher slurm")
+            return
+        if distributed:
+            raise ValueError("--launcher slurm submits each run as a job: leave out --coordinator/--distributed")
+        integer("--slurm-gpus", self.slurm_gpus, 0, 16)
+        integer("--slurm-cpus", self.slurm_cpus, 1, 1024)
+        integer("--slurm-mem-gb", self.slurm_mem_gb, 1, 16384)
+        integer("--slurm-time-min", self.slurm_time_min, 1, 60 * 24 * 31)
+        integer("--slurm-requeues", self.slurm_requeues, 0, 100)
+        if self.slurm_folder is not None:
+            writable_dir(self.slurm_folder, "--slurm-folder")
+        why = launch.slurm_available()
+        if why:
+            raise ValueError(f"--launcher slurm: {why}; on a machine without SLURM use --launcher local")
+
+    def run(self, jobs: list, shared: Path) -> None:
+        """Train `jobs` where these options say; `shared` (the results folder) holds the compile cache."""
+        slurm = None if self.launcher == "local" else launch.Slurm(
+            self.slurm_partition, self.slurm_gpus, self.slurm_cpus, self.slurm_mem_gb, self.slurm_time_min,
+            self.slurm_account, self.slurm_qos, self.slurm_folder, self.slurm_requeues)
+        launch.run(jobs, self.runs_per_device, slurm, shared)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 from typing import Annotated, Optional
 
-from mjx_badger.cli.common import Cluster, ExperimentName, Flat, Profile, ProtocolName, check_seed_devices
+from mjx_badger.cli.common import Cluster, ExperimentName, Flat, Launch, Profile, ProtocolName, check_seed_devices
 from mjx_badger.core import safe_io
 from mjx_badger.core.validation import number, writable_dir, writable_file
 from mjx_badger.experiments.registry import EXPERIMENTS, GROUPS, PROFILES, expand
@@ -37,7 +37,11 @@ class Reproduce:
     """Rerun runs whose complete results exist, and start interrupted ones over instead of resuming them."""
     tensorboard: bool = True
     """Also write TensorBoard event files beside the results (<name>.tb/seed_<k>/)."""
+    draw: bool = True
+    """Draw the figures and score the claims once the runs have landed (--no-draw: the runs only; `figures` and
+    `claims` draw them later)."""
     cluster: Annotated[Cluster, Flat] = Cluster()
+    launch: Annotated[Launch, Flat] = Launch()
 
     @property
     def figures(self) -> Path:
@@ -50,7 +54,10 @@ class Reproduce:
             raise ValueError(f"--experiments names an experiment twice: {' '.join(self.experiments)}")
         writable_dir(self.results_dir, "results folder")
         writable_dir(self.figures, "figures folder")
+        self.launch.check(distributed=self.cluster.coordinator is not None or self.cluster.distributed)
         self.cluster.start()  # before JAX touches a device, which the estimate does
+        if self.launch.launcher == "slurm":  # the runs' devices and memory are the cluster's, not this machine's
+            return
         seeds = PROFILES[self.profile].seeds
         check_seed_devices(seeds)
         for name in expand(self.experiments):  # one run at a time: the largest decides
@@ -177,8 +184,10 @@ class Attribute:
     """Where the swaps' runs are written."""
     only: Optional[tuple[str, ...]] = None
     """Run only these swaps (names as `list` prints them)."""
+    launch: Annotated[Launch, Flat] = Launch()
 
     def check(self) -> None:
+        self.launch.check()
         if self.only is not None and not self.only:
             raise ValueError(f"--only needs at least one swap; choose from: {', '.join(attribution.SWAPS_BY_NAME)}")
         unknown = sorted(set(self.only or ()) - set(attribution.SWAPS_BY_NAME))
@@ -187,7 +196,7 @@ class Attribute:
         writable_dir(self.results_dir, "results folder")
 
     def __call__(self) -> int:
-        for table in attribution.run(self.results_dir, self.only):
+        for table in attribution.run(self.results_dir, self.only, self.launch):
             print(table)
         return 0
 

@@ -1,13 +1,15 @@
 """`train` one configuration over many seeds, and `sweep` a grid of its numeric parameters, as one program each."""
 
 import dataclasses
+import shutil
 import sys
 from pathlib import Path
 from typing import Annotated, Optional
 
 import tyro
 
-from mjx_badger.cli.common import Cluster, Flat, Runs, check_seed_devices
+from mjx_badger.cli.common import Cluster, Flat, Launch, Runs, check_seed_devices
+from mjx_badger.core import launch
 from mjx_badger.learning import memory, runner, sweep
 
 
@@ -54,12 +56,15 @@ class Sweep(Runs):
     """A JSON file {"GROUP.NAME": [values], ...}, combined with any --vary."""
     vmapped: int = 1
     """Members vmapped together: 1 gives each member's separate-run numbers to the bit; more is faster on a GPU."""
+    launch: Annotated[Launch, Flat] = Launch()
+    """With --runs-per-device or --launcher slurm, each group of --vmapped members is a run of its own."""
 
     def axes(self) -> tuple:
         return (sweep.read_grid(self.grid) if self.grid else ()) + tuple(sweep.parse_axis(v) for v in self.vary)
 
     def check(self) -> None:
         self.check_runs()
+        self.launch.check()
         members = sweep.members(self.run, self.axes())
         sweep.check_groups(len(members), self.vmapped)
         memory.check(self.run, self.seeds, members=len(members))
@@ -71,6 +76,8 @@ class Sweep(Runs):
                   f"{min(self.vmapped, len(members))}, into {self.out}")
             print(memory.words(self.run, self.seeds, members=len(members)))
             return 0
+        if not self.launch.here:
+            return self.launched()
         try:
             documents = sweep.run(self.run, self.axes(), self.seed_list, self.out, self.vmapped, progress=not self.quiet,
                                   resume=not self.restart, tensorboard=self.tensorboard)
@@ -81,4 +88,17 @@ class Sweep(Runs):
             print(f"wrote {self.out / document['agents'].replace('.agents', '.json')}")  # every agent has these
         print(f"{len(documents)} members x {self.seeds} seeds: {documents[0]['wall_clock']['seed_steps_per_s']} "
               f"seed-steps/s, compile {documents[0]['wall_clock']['compile_s']} s")
+        return 0
+
+    def launched(self) -> int:
+        """Each group of --vmapped members as a run of its own process or cluster job (each resumes when requeued)."""
+        axes, size = self.axes(), len(sweep.members(self.run, self.axes()))
+        jobs = [launch.Job(f"members {part[0]}-{part[-1]}", sweep.run,
+                           (self.run, axes, self.seed_list, self.out, self.vmapped, False, True, self.tensorboard, part))
+                for part in sweep.parts(size, self.vmapped)]
+        if self.restart:  # a requeued job resumes its own start, not an older sweep's checkpoint: those go first
+            for path in self.out.glob(f"sweep_{self.run.name}*.ckpt"):
+                shutil.rmtree(path, ignore_errors=True)
+        self.launch.run(jobs, self.out)
+        print(f"{size} members x {self.seeds} seeds in {len(jobs)} runs: results in {self.out}")
         return 0

@@ -11,6 +11,7 @@ saved, and the same command resumes from them.
 import errno
 import sys
 
+from mjx_badger.core.launch import Failed
 from mjx_badger.core.stops import Interrupted
 from mjx_badger.core.validation import Refused
 
@@ -28,6 +29,9 @@ def run(command) -> int:
     except Refused as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
+    except Failed as error:  # runs in their own processes or cluster jobs: each named with its error
+        print(f"error: {error}", file=sys.stderr)
+        return 1
     except Interrupted as stop:
         print(stop, file=sys.stderr)
         return stop.code

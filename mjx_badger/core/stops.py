@@ -65,3 +65,14 @@ def graceful():
         _noted.clear()
         for signum, handler in previous.items():
             signal.signal(signum, handler)
+
+
+@contextlib.contextmanager
+def left_to_caller():
+    """While the block runs, SIGINT and SIGTERM keep the handlers they have (a SLURM job's, which submitit set to
+    checkpoint and requeue): a run inside it checkpoints as usual but installs none of its own."""
+    _depth[0] += 1
+    try:
+        yield
+    finally:
+        _depth[0] -= 1

@@ -10,6 +10,7 @@ only once it is completely written; a step that cannot be read is skipped for an
 
 import json
 import math
+import os
 import shutil
 import warnings
 from pathlib import Path
@@ -18,6 +19,7 @@ import jax
 import numpy as np
 
 from mjx_badger.core.cluster import wait_for_peers
+from mjx_badger.core.launch import EVERY_CHUNK
 
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")
@@ -51,7 +53,9 @@ class Schedule:
 
     def saved(self, save_s: float, chunk_s: float) -> None:
         """A checkpoint took `save_s` where a chunk takes `chunk_s` (the slowest process's, so all agree)."""
-        self.every, self.since_saved = interval(save_s, chunk_s), 0
+        # A cluster job may be preempted at any moment: it saves every chunk (launch.py).
+        every_chunk = os.environ.get(EVERY_CHUNK) == "1"
+        self.every, self.since_saved = 1 if every_chunk else interval(save_s, chunk_s), 0
 
 
 def _sized(leaves: list) -> dict:

@@ -91,6 +91,12 @@ def members(base: TrainConfig, axes: tuple) -> list[TrainConfig]:
     return [with_values(base, fields, combo) for combo in itertools.product(*(values for _, values in axes))]
 
 
+def parts(members: int, vmapped: int) -> list[tuple]:
+    """The members' indices in groups of `vmapped`: one cluster job's or process's share each."""
+    size = check_groups(members, vmapped)
+    return [tuple(range(i, i + size)) for i in range(0, members, size)]
+
+
 def check_groups(members: int, vmapped: int) -> int:
     """The group size: `vmapped` members at most; ValueError unless the groups are whole."""
     if vmapped < 1:
@@ -123,9 +129,12 @@ def _value(config: TrainConfig, field: str):
 class Sweep:
     """The compiled program of a grid: `init(keys)`, `chunk(carry, start)`, `gait(carry)` over members x seeds."""
 
-    def __init__(self, base: TrainConfig, axes: tuple, seeds: list[int], vmapped: int = 1):
+    def __init__(self, base: TrainConfig, axes: tuple, seeds: list[int], vmapped: int = 1, part: tuple | None = None):
         self.fields = [field for field, _ in axes]
-        self.configs = members(base, axes)
+        self.grid = members(base, axes)
+        self.part = tuple(part) if part is not None else None
+        """The members this program trains, by index into the grid (a cluster job's share); None: all."""
+        self.configs = [self.grid[i] for i in self.part] if part is not None else self.grid
         self.seeds = list(seeds)
         self.vmapped = check_groups(len(self.configs), vmapped)
         self.values = jnp.asarray([[_value(c, f) for f in self.fields] for c in self.configs], jnp.float32)
@@ -197,10 +206,12 @@ class Sweep:
 
 
 def run(base: TrainConfig, axes: tuple, seeds: list[int], out_dir: Path, vmapped: int = 1, progress: bool = True,
-        resume: bool = True, tensorboard: bool = True) -> list[dict]:
-    """Train every member of the grid in one program; one results file per member in `out_dir`."""
-    sweep = Sweep(base, axes, seeds, vmapped)
-    checkpoint_path = Path(out_dir) / f"sweep_{base.name}.json"
+        resume: bool = True, tensorboard: bool = True, part: tuple | None = None) -> list[dict]:
+    """Train every member of the grid (or the members `part` names) in one program; one results file per member
+    in `out_dir`."""
+    sweep = Sweep(base, axes, seeds, vmapped, part)
+    share = "" if part is None else f"_members_{min(part)}-{max(part)}"
+    checkpoint_path = Path(out_dir) / f"sweep_{base.name}{share}.json"
     with contextlib.ExitStack() as held:
         for path in [checkpoint_path] + [Path(out_dir) / f"{sweep.name(config)}.json" for config in sweep.configs]:
             held.enter_context(runner.writing(path))  # one sweep at a time into these files
@@ -225,7 +236,7 @@ def _run(sweep: Sweep, checkpoint_path: Path, seeds: list[int], out_dir: Path, p
     for m, member in enumerate(members):
         document = written[m]
         document["sweep"] = {"fields": sweep.fields, "values": [_value(member.config, f) for f in sweep.fields],
-                             "members": len(members), "vmapped": sweep.vmapped}
+                             "members": len(sweep.grid), "vmapped": sweep.vmapped}
         documents.finish(member, document, jax.tree.map(lambda x: x[m], gait),
                          jax.tree.map(lambda x: np.asarray(x[m]), carry[1].agent_state))
     runner.remove_checkpoints(checkpoint_path)

@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 from mjx_badger.agents.config import ALGORITHMS
-from mjx_badger.core import cluster, stops
+from mjx_badger.core import cluster, launch, stops
 from mjx_badger.experiments import eta
 from mjx_badger.experiments.registry import EXPERIMENTS, PROFILES, expand
 from mjx_badger.learning import checkpoints, programs, runner, tensorboard
@@ -41,7 +41,7 @@ def _reproduce(args) -> int:
     work = announce(args, todo)
     started = time.perf_counter()
     run_all(args, folder, todo, work)
-    if not cluster.writes():  # process 0 of a jax.distributed run draws and scores
+    if not cluster.writes() or not args.draw:  # process 0 of a jax.distributed run draws and scores
         return 0
     draw(args, folder, names)
     print(f"done in {(time.perf_counter() - started) / 60:.1f} min")
@@ -82,6 +82,8 @@ def announce(args, todo: list) -> list:
 
 def run_all(args, folder: Path, todo: list, work: list) -> None:
     """Train the planned runs one after another (a run another experiment shares is copied), with the time left."""
+    if not args.launch.here:
+        return launch_all(args, folder, todo)
     profile = PROFILES[args.profile]
     updates = sum(work)
     configs = [experiment.train_config(run, args.profile, args.protocol) for experiment, run, _ in todo]
@@ -112,6 +114,29 @@ def run_all(args, folder: Path, todo: list, work: list) -> None:
         if document and document.get("wall_clock", {}).get("resumed_at_step") is None:
             train_s = document["wall_clock"].get("run_s", 0.0)
             done.append(eta.Done(plans[index], train_s, time.perf_counter() - run_started - train_s))
+
+
+def launch_all(args, folder: Path, todo: list) -> None:
+    """The planned runs as processes or cluster jobs, each configuration once; then the shared runs copied."""
+    seeds = list(range(PROFILES[args.profile].seeds))
+    jobs, copies, first = [], [], {}
+    for experiment, run, path in todo:
+        config = experiment.train_config(run, args.profile, args.protocol)
+        key = json.dumps(results.config_dict(config), sort_keys=True)
+        twin = None if args.force else same_run(folder, config, seeds)
+        if twin is not None or key in first:
+            copies.append((twin or first[key], path))
+            continue
+        first[key] = path
+        if args.force:  # a requeued job must resume its own start, not an older run's checkpoint: those go first
+            shutil.rmtree(checkpoints.folder(path), ignore_errors=True)
+        jobs.append(launch.Job(str(path.relative_to(folder)), runner.run,
+                               (config, seeds, path, False, True, args.tensorboard)))
+    print(f"{len(jobs)} runs to train ({args.launch.launcher}, {args.launch.runs_per_device} per device)", flush=True)
+    args.launch.run(jobs, args.results_dir)
+    for twin, path in copies:
+        print(f"reuse {twin} for {path}: the same configuration and seeds")
+        copy_run(twin, path)
 
 
 def draw(args, folder: Path, names: tuple) -> None:

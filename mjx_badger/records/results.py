@@ -105,6 +105,8 @@ def hardware() -> dict:
         "processor": platform.processor() or platform.machine(),
         "cpu_count": os.cpu_count(),
         "jax_devices": [str(d) for d in jax.devices()],
+        "device_kind": jax.devices()[0].device_kind,
+        "matmul_precision": jax.config.jax_default_matmul_precision,
         "peak_memory_mib": round(peak_memory_mib(), 1),
     }
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mjx_badger.core import launch
 from mjx_badger.experiments.registry import EXPERIMENTS, Profile, Run, result_name
 from mjx_badger.learning import runner
 from mjx_badger.learning.config import TrainConfig
@@ -215,14 +216,21 @@ def table(results_dir: Path, conditions: bool = False) -> str:
     return "\n".join(lines) + "\n"
 
 
-def run(results_dir: Path, only: tuple | None = None) -> tuple[str, str]:
+def run(results_dir: Path, only: tuple | None = None, launcher=None) -> tuple[str, str]:
     """Train every planned run of the swaps (those named in `only`, else all) that has no complete results yet, each
-    baseline once; returns the tables of the protocol swaps and of the conditions' swaps."""
+    baseline once, where `launcher` says (cli.common.Launch; None: here, one after another); returns the tables of
+    the protocol swaps and of the conditions' swaps."""
     swaps = tuple(swap for swap in SWAPS if only is None or swap.name in only)
     seeds = list(range(PROFILE.seeds))
+    progress = progress_wanted() and (launcher is None or launcher.here)  # one bar at a time
+    jobs = []
     for _, _, config, path in planned(results_dir, swaps):
         if path.exists() and (results.read_or_skip(path) or {}).get("complete"):
             print(f"skip {path}: complete")
             continue
-        runner.run(config, seeds, path, progress=progress_wanted())
+        jobs.append(launch.Job(path.name, runner.run, (config, seeds, path, progress)))
+    if launcher is None:
+        launch.run(jobs)
+    else:
+        launcher.run(jobs, results_dir)
     return table(results_dir), table(results_dir, conditions=True)

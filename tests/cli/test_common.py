@@ -3,6 +3,7 @@
 import pytest
 
 from mjx_badger.cli.common import Cluster, Runs, check_seed_devices
+from mjx_badger.cli.main import main
 
 
 @pytest.mark.parametrize("cluster, says", [
@@ -26,3 +27,22 @@ def test_a_whole_address_and_no_address_pass_and_the_seeds_follow_first_seed(tmp
     check_seed_devices(3)  # one device here: any number of seeds
     with pytest.raises(ValueError, match="--first-seed must be an integer"):
         Runs(seeds=3, first_seed=-1, out=tmp_path).check_runs()
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["--runs-per-device", "0"], "--runs-per-device must be an integer in 1..64, not 0"),
+    (["--slurm-partition", "gpu"], "--slurm-partition needs --launcher slurm"),
+    (["--slurm-gpus", "1", "--slurm-time-min", "5"], "--slurm-gpus, --slurm-time-min need --launcher slurm"),
+    (["--launcher", "slurm", "--slurm-gpus", "-1"], "--slurm-gpus must be an integer in 0..16, not -1"),
+    (["--launcher", "slurm", "--coordinator", "a:1", "--num-processes", "2", "--process-id", "0"],
+     "--launcher slurm submits each run as a job: leave out --coordinator/--distributed"),
+    (["--launcher", "slurm"], "--launcher slurm: SLURM's sbatch is not on PATH; on a machine without SLURM use "
+                              "--launcher local"),
+])
+def test_where_the_runs_train_is_refused_in_one_line_before_anything_runs(argv, says, tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("PATH", "/nonexistent")  # no sbatch, whatever this machine has
+    with pytest.raises(SystemExit) as stop:
+        main(["reproduce", "--profile", "smoke", "--results-dir", str(tmp_path / "r"), *argv])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.count("\n") == 1 and says in err, err
+    assert not (tmp_path / "r").exists()

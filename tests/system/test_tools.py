@@ -46,3 +46,25 @@ def test_a_run_is_charged_the_paused_part_of_its_span_and_knows_its_attempts():
     document["wall_clock"]["updated"] = "2026-12-03T11:25:00+00:00"  # resumed by the 11:10 attempt
     cost = profile_time.run_cost(document, None, pauses, starts)
     assert cost["paused_s"] == 420 and cost["cost_s_less_pauses"] is None
+
+
+# tools/cluster_plan.py: the full profile's runs put longest first onto a cluster's nodes.
+
+plan_spec = importlib.util.spec_from_file_location("cluster_plan", Path(__file__).parents[2] / "tools" / "cluster_plan.py")
+cluster_plan = importlib.util.module_from_spec(plan_spec)
+plan_spec.loader.exec_module(cluster_plan)
+
+
+def test_runs_go_longest_first_to_the_node_that_frees_first():
+    assert cluster_plan.makespan([5, 4, 3, 3, 3], 2) == 10  # 5 + 3 on one node, 4 + 3 + 3 on the other
+    assert cluster_plan.makespan([5, 4, 3, 3, 3], 1) == 18
+    assert cluster_plan.makespan([5, 1, 1], 3) == 5
+
+
+def test_many_nodes_are_bound_by_the_longest_run_and_sharing_a_node_slows_it():
+    costs = {"long": 10 * 3600.0, "a": 3600.0, "b": 3600.0}
+    rows = {(r["nodes"], r["runs_per_node"]): r for r in cluster_plan.plan(costs, (1, 3), 1.5)}
+    assert rows[1, 1]["wall_h"] == 12 and rows[1, 1]["bound"] == "the work over the nodes"
+    assert rows[3, 1]["wall_h"] == 10 and rows[3, 1]["bound"] == "the longest run"
+    assert rows[3, 2]["wall_h"] == 15 and rows[3, 2]["bound"] == "the longest run"
+    assert rows[1, 2]["wall_h"] == 15 and rows[1, 2]["bound"] == "the longest run"  # two slots: long | a + b
