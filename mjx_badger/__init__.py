@@ -32,7 +32,7 @@ def _pin_matmul_precision() -> None:
     import sys
 
     chosen = os.environ.setdefault("JAX_DEFAULT_MATMUL_PRECISION", MATMUL_PRECISION)
-    if "jax" in sys.modules:
+    if sys.modules.get("jax") is not None:  # loaded already (None: a test has blocked it)
         sys.modules["jax"].config.update("jax_default_matmul_precision", chosen)
 
 

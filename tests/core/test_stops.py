@@ -26,3 +26,14 @@ def test_a_second_signal_stops_at_once_and_the_exit_code_is_the_shells():
             os.kill(os.getpid(), signal.SIGINT)
     stopped = stops.Interrupted(signal.SIGTERM, "stopped")
     assert stopped.code == 128 + 15 and stops.name(signal.SIGINT) == "SIGINT"
+
+
+def test_inside_a_block_left_to_the_caller_a_run_keeps_the_callers_handlers():
+    caller = lambda signum, frame: None
+    previous = signal.signal(signal.SIGTERM, caller)
+    try:
+        with stops.left_to_caller(), stops.graceful():
+            assert signal.getsignal(signal.SIGTERM) is caller
+        assert signal.getsignal(signal.SIGTERM) is caller
+    finally:
+        signal.signal(signal.SIGTERM, previous)

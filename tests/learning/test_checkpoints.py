@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from mjx_badger.cli.main import main
+from mjx_badger.core import launch
 from mjx_badger.learning import checkpoints
 from mjx_badger.records import results
 from tests.conftest import TINY_TRAIN
@@ -116,3 +117,12 @@ def test_a_run_killed_mid_way_resumes_to_the_uninterrupted_results(tmp_path):
     expected, got = (results.read(Path(folder) / RESULT) for folder in (tmp_path / "whole", out))
     assert _without_clock(got) == _without_clock(expected)
     assert not ckpt.exists()  # a complete run keeps no checkpoints
+
+
+def test_a_cluster_jobs_runs_checkpoint_every_chunk_whatever_saving_costs(monkeypatch):
+    schedule = checkpoints.Schedule()
+    schedule.saved(save_s=10.0, chunk_s=1.0)  # here: saving is dear, so it waits many chunks
+    assert schedule.every > 1
+    monkeypatch.setenv(launch.EVERY_CHUNK, "1")
+    schedule.saved(save_s=10.0, chunk_s=1.0)
+    assert schedule.every == 1 and schedule.due()

@@ -47,3 +47,10 @@ def test_members_vmapped_together_each_get_their_own_values():
     commanded = np.asarray(state.env_state.obs)[:, :, 48]  # [member][seed]: the observed target velocity
     np.testing.assert_allclose(commanded, np.repeat(np.float32(targets)[:, None], 2, axis=1))
     assert np.asarray(metrics["train/falls"]).shape == (3, 2)
+
+
+def test_a_grid_splits_into_groups_of_vmapped_members_for_separate_processes_or_jobs():
+    assert sweep.parts(6, 2) == [(0, 1), (2, 3), (4, 5)]
+    assert sweep.parts(3, 1) == [(0,), (1,), (2,)]
+    with pytest.raises(ValueError, match="4 members do not split into groups of 3"):
+        sweep.parts(4, 3)

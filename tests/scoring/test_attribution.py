@@ -162,3 +162,13 @@ def test_the_reality_gaps_swaps_have_their_own_table(tmp_path):
     row = [line for line in gap.splitlines() if line.startswith("| true velocity in the loop")]
     assert row and "| 0.01 m/s; 0.00 m/s estimated;" in row[0] and "| 0.28 m/s; 0.01 m/s estimated;" in row[0]
     assert "true velocity in the loop" not in attribution.table(tmp_path)  # not among the protocol's departures
+
+
+def test_attribute_hands_its_missing_runs_to_the_launcher_once_each(tmp_path, monkeypatch):
+    launched = []
+    monkeypatch.setattr("mjx_badger.cli.common.Launch.run", lambda self, jobs, shared: launched.extend(jobs))
+    monkeypatch.setattr(attribution, "table", lambda *args, **kwargs: "")
+    swap = next(iter(attribution.SWAPS_BY_NAME))
+    assert main(["attribute", "--only", swap, "--results-dir", str(tmp_path), "--runs-per-device", "2"]) == 0
+    planned = [path for *_, path in attribution.planned(tmp_path, (attribution.SWAPS_BY_NAME[swap],))]
+    assert [job.args[2] for job in launched] == planned and len(set(planned)) == len(planned)
