@@ -8,7 +8,7 @@ from typing import Annotated, Literal, Optional
 import jax
 import tyro
 
-from mjx_badger.core import cluster, launch
+from mjx_badger.core import cluster, launch, slurm
 from mjx_badger.core.validation import INT32_MAX, integer, writable_dir
 from mjx_badger.experiments.registry import EXPERIMENTS, GROUPS, PROFILES
 from mjx_badger.learning.config import TrainConfig
@@ -89,6 +89,8 @@ class Launch:
     """Where submitit keeps the jobs' files and logs (default: <results-dir>/slurm)."""
     slurm_requeues: int = 3
     """Time-outs a task may resume from before it is given up."""
+    slurm_signal_delay_s: int = 600
+    """How long before its time limit a task is told to checkpoint and requeue (it acts between chunks)."""
 
     @property
     def here(self) -> bool:
@@ -96,33 +98,46 @@ class Launch:
         return self.launcher == "local" and self.runs_per_device == 1
 
     def check(self, distributed: bool = False) -> None:
-        """ValueError for options out of range or SLURM not reachable; submits nothing."""
+        """ValueError for options out of range or SLURM not reachable; submits nothing. Where the runs train in
+        processes of their own, this one takes device memory only as it needs it (launch.spare_device)."""
         integer("--runs-per-device", self.runs_per_device, 1, 64)
+        if distributed and not self.here:
+            raise ValueError(f"{'--launcher slurm' if self.launcher == 'slurm' else '--runs-per-device'} spreads whole "
+                             "runs: leave out --coordinator/--distributed (those split one run's seeds over hosts)")
         if self.launcher == "local":
             given = [f"--{f.name.replace('_', '-')}" for f in dataclasses.fields(self)
                      if f.name.startswith("slurm_") and getattr(self, f.name) != f.default]
             if given:
                 raise ValueError(f"{', '.join(given)} {'needs' if len(given) == 1 else 'need'} --launcher slurm")
+            if not self.here:
+                launch.spare_device()
             return
-        if distributed:
-            raise ValueError("--launcher slurm submits each run as a job: leave out --coordinator/--distributed")
         integer("--slurm-gpus", self.slurm_gpus, 0, 16)
         integer("--slurm-cpus", self.slurm_cpus, 1, 1024)
         integer("--slurm-mem-gb", self.slurm_mem_gb, 1, 16384)
         integer("--slurm-time-min", self.slurm_time_min, 1, 60 * 24 * 31)
         integer("--slurm-requeues", self.slurm_requeues, 0, 100)
+        integer("--slurm-signal-delay-s", self.slurm_signal_delay_s, 60, 24 * 3600)
+        if self.slurm_time_min * 60 < self.slurm_signal_delay_s + 300:
+            raise ValueError(f"--slurm-time-min {self.slurm_time_min} leaves under 5 min before the requeue signal "
+                             f"{self.slurm_signal_delay_s} s ahead of the limit (--slurm-signal-delay-s): give a task "
+                             f"at least {(self.slurm_signal_delay_s + 300 + 59) // 60} min")
         if self.slurm_folder is not None:
             writable_dir(self.slurm_folder, "--slurm-folder")
-        why = launch.slurm_available()
+        why = slurm.available()
         if why:
             raise ValueError(f"--launcher slurm: {why}; on a machine without SLURM use --launcher local")
+        launch.spare_device()
 
     def run(self, jobs: list, shared: Path) -> None:
         """Train `jobs` where these options say; `shared` (the results folder) holds the compile cache."""
-        slurm = None if self.launcher == "local" else launch.Slurm(
-            self.slurm_partition, self.slurm_gpus, self.slurm_cpus, self.slurm_mem_gb, self.slurm_time_min,
-            self.slurm_account, self.slurm_qos, self.slurm_folder, self.slurm_requeues)
-        launch.run(jobs, self.runs_per_device, slurm, shared)
+        if self.launcher == "local":
+            return launch.run(jobs, self.runs_per_device, shared)
+        if jobs:
+            resources = slurm.Slurm(self.slurm_partition, self.slurm_gpus, self.slurm_cpus, self.slurm_mem_gb,
+                                    self.slurm_time_min, self.slurm_account, self.slurm_qos, self.slurm_folder,
+                                    self.slurm_requeues, self.slurm_signal_delay_s)
+            slurm.submit(jobs, self.runs_per_device, resources, shared, lambda line: print(line, flush=True))
 
 
 @dataclasses.dataclass(frozen=True)

@@ -11,6 +11,7 @@ import tyro
 from mjx_badger.cli.common import Cluster, Flat, Launch, Runs, check_seed_devices
 from mjx_badger.core import launch
 from mjx_badger.learning import memory, runner, sweep
+from mjx_badger.records import results
 
 
 @dataclasses.dataclass(frozen=True)
@@ -93,11 +94,13 @@ class Sweep(Runs):
     def launched(self) -> int:
         """Each group of --vmapped members as a run of its own process or cluster job (each resumes when requeued)."""
         axes, size = self.axes(), len(sweep.members(self.run, self.axes()))
+        since = results.now() if self.restart else ""  # what landed before a --restart is trained again
         jobs = [launch.Job(f"members {part[0]}-{part[-1]}", sweep.run,
-                           (self.run, axes, self.seed_list, self.out, self.vmapped, False, True, self.tensorboard, part))
+                           (self.run, axes, self.seed_list, self.out, self.vmapped, False, True, self.tensorboard, part,
+                            since))
                 for part in sweep.parts(size, self.vmapped)]
         if self.restart:  # a requeued job resumes its own start, not an older sweep's checkpoint: those go first
-            for path in self.out.glob(f"sweep_{self.run.name}*.ckpt"):
+            for path in [self.out / f"sweep_{self.run.name}.ckpt", *self.out.glob(f"sweep_{self.run.name}_members_*.ckpt")]:
                 shutil.rmtree(path, ignore_errors=True)
         self.launch.run(jobs, self.out)
         print(f"{size} members x {self.seeds} seeds in {len(jobs)} runs: results in {self.out}")

@@ -23,6 +23,9 @@ class Interrupted(Exception):
         super().__init__(message)
         self.code = 128 + signum
 
+    def __reduce__(self):  # so that a run's process can hand it to its parent
+        return Interrupted, (self.code - 128, str(self))
+
 
 def requested() -> int | None:
     """The signal a stop was asked by, or None."""
@@ -76,3 +79,8 @@ def left_to_caller():
         yield
     finally:
         _depth[0] -= 1
+
+
+def leave_all_to_caller() -> None:
+    """For the rest of this process (a run's process inside a cluster task): as `left_to_caller`."""
+    _depth[0] += 1

@@ -57,6 +57,20 @@ def add_chunk(document: dict, member: Member, own: dict, diverged_at, steps: int
     document["hardware"] = results.hardware()
 
 
+def landed(path: Path, config: TrainConfig, seeds: list, since: str | None = "") -> dict | None:
+    """The complete results document at `path` for exactly this configuration and seeds, started `since` (an ISO
+    time; "" for any, None for none), else None (a field added after the file was written counts as its default)."""
+    document = results.read_or_skip(path) if since is not None and Path(path).is_file() else None
+    if document is None or not document.get("complete") or document["seeds"] != list(seeds):
+        return None
+    if document.get("wall_clock", {}).get("started", "") < since:
+        return None
+    as_stored = lambda c: json.loads(json.dumps(results.config_dict(c)))  # tuples become lists
+    wanted, defaults = as_stored(config), as_stored(TrainConfig())
+    stored = {**{k: defaults[k] for k in wanted if k not in document["config"]}, **document["config"]}
+    return document if stored == wanted else None
+
+
 def check_resumable(path: Path) -> None:
     """Refused, before anything compiles, if a results file to resume from is there but cannot be read."""
     if Path(path).exists():

@@ -28,7 +28,7 @@ from mjx_badger.records import results
 
 
 def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = True, resume: bool = True,
-        tensorboard: bool = True) -> dict:
+        tensorboard: bool = True, keep_landed_since: str | None = None) -> dict:
     """Train `config` for every seed in one vmapped program; returns the results document.
 
     The carry is checkpointed as it goes (checkpoints.py); with `resume` a run of the same
@@ -36,11 +36,16 @@ def run(config: TrainConfig, seeds: list[int], out_path: Path, progress: bool = 
     ends with the numbers an uninterrupted run gives. The checkpoints go once the run is complete.
     With `tensorboard`, the metrics also go to event files beside the results (tensorboard.py).
     While it runs it holds the lock of `out_path` (locks.py): a second run into the same file is
-    refused. SIGINT or SIGTERM stop it after the chunk at hand, saved (stops.py).
+    refused. SIGINT or SIGTERM stop it after the chunk at hand, saved (stops.py). With `keep_landed_since` (an
+    ISO time; "" for any), a run that already landed (complete results of this configuration and seeds, started
+    since then) is not trained again: a requeued cluster task returns the document of a run it had finished.
     """
     with writing(out_path), stops.graceful():
         if resume:
             documents.check_resumable(out_path)
+        done = documents.landed(out_path, config, seeds, keep_landed_since)
+        if done is not None:
+            return done
         started = results.now()
         trainer = make_train(config)
         carry, chunk, compile_s = compiled(trainer, seeds)

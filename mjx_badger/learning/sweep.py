@@ -206,9 +206,9 @@ class Sweep:
 
 
 def run(base: TrainConfig, axes: tuple, seeds: list[int], out_dir: Path, vmapped: int = 1, progress: bool = True,
-        resume: bool = True, tensorboard: bool = True, part: tuple | None = None) -> list[dict]:
+        resume: bool = True, tensorboard: bool = True, part: tuple | None = None, keep_landed_since: str | None = None) -> list[dict]:
     """Train every member of the grid (or the members `part` names) in one program; one results file per member
-    in `out_dir`."""
+    in `out_dir`. With `keep_landed_since`, members that all landed already are not trained again (runner.run)."""
     sweep = Sweep(base, axes, seeds, vmapped, part)
     share = "" if part is None else f"_members_{min(part)}-{max(part)}"
     checkpoint_path = Path(out_dir) / f"sweep_{base.name}{share}.json"
@@ -216,9 +216,13 @@ def run(base: TrainConfig, axes: tuple, seeds: list[int], out_dir: Path, vmapped
         for path in [checkpoint_path] + [Path(out_dir) / f"{sweep.name(config)}.json" for config in sweep.configs]:
             held.enter_context(runner.writing(path))  # one sweep at a time into these files
         held.enter_context(stops.graceful())
+        paths = [Path(out_dir) / f"{sweep.name(config)}.json" for config in sweep.configs]
         if resume:
-            for config in sweep.configs:
-                documents.check_resumable(Path(out_dir) / f"{sweep.name(config)}.json")
+            for path in paths:
+                documents.check_resumable(path)
+        done = [documents.landed(path, config, seeds, keep_landed_since) for path, config in zip(paths, sweep.configs)]
+        if all(document is not None for document in done):  # a requeued task, a rerun
+            return done
         return _run(sweep, checkpoint_path, seeds, out_dir, progress, resume, tensorboard)
 
 

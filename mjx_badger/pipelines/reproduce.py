@@ -14,8 +14,7 @@ from mjx_badger.agents.config import ALGORITHMS
 from mjx_badger.core import cluster, launch, stops
 from mjx_badger.experiments import eta
 from mjx_badger.experiments.registry import EXPERIMENTS, PROFILES, expand
-from mjx_badger.learning import checkpoints, programs, runner, tensorboard
-from mjx_badger.learning.config import TrainConfig
+from mjx_badger.learning import checkpoints, documents, programs, runner, tensorboard
 from mjx_badger.learning.progress import progress_wanted
 from mjx_badger.outputs import plots, videos
 from mjx_badger.protocol.protocols import PROTOCOLS
@@ -75,7 +74,7 @@ def announce(args, todo: list) -> list:
     print(f"profile {args.profile}, protocol {args.protocol}: {len(todo)} runs x {profile.seeds} seeds, "
           f"{updates:,} gradient updates in all; "
           f"about {updates / CPU_SEED_STEPS_PER_S / 3600:.1f} h on a 2-core CPU, plus ~1-2 min compile per run")
-    if args.profile == "full" and todo:
+    if args.profile == "full" and todo and args.launch.here:  # elsewhere this machine's speed says nothing
         print(measured_estimate(todo, args, profile.seeds), flush=True)
     return work
 
@@ -119,6 +118,7 @@ def run_all(args, folder: Path, todo: list, work: list) -> None:
 def launch_all(args, folder: Path, todo: list) -> None:
     """The planned runs as processes or cluster jobs, each configuration once; then the shared runs copied."""
     seeds = list(range(PROFILES[args.profile].seeds))
+    since = results.now() if args.force else ""  # with --force what landed before is trained again
     jobs, copies, first = [], [], {}
     for experiment, run, path in todo:
         config = experiment.train_config(run, args.profile, args.protocol)
@@ -131,12 +131,15 @@ def launch_all(args, folder: Path, todo: list) -> None:
         if args.force:  # a requeued job must resume its own start, not an older run's checkpoint: those go first
             shutil.rmtree(checkpoints.folder(path), ignore_errors=True)
         jobs.append(launch.Job(str(path.relative_to(folder)), runner.run,
-                               (config, seeds, path, False, True, args.tensorboard)))
+                               (config, seeds, path, False, True, args.tensorboard, since)))
     print(f"{len(jobs)} runs to train ({args.launch.launcher}, {args.launch.runs_per_device} per device)", flush=True)
-    args.launch.run(jobs, args.results_dir)
-    for twin, path in copies:
-        print(f"reuse {twin} for {path}: the same configuration and seeds")
-        copy_run(twin, path)
+    try:
+        args.launch.run(jobs, args.results_dir)
+    finally:  # a run that landed is copied to the experiments sharing it, though another failed
+        for twin, path in copies:
+            if (results.read_or_skip(twin) or {}).get("complete"):
+                print(f"reuse {twin} for {path}: the same configuration and seeds")
+                copy_run(twin, path)
 
 
 def draw(args, folder: Path, names: tuple) -> None:
@@ -195,16 +198,6 @@ def copy_run(twin: Path, path: Path) -> None:
 
 def same_run(folder: Path, config, seeds, pattern: str | None = None):
     """A complete results file matching `pattern` under `folder` for exactly this configuration and seeds."""
-    as_stored = lambda c: json.loads(json.dumps(results.config_dict(c)))  # tuples become lists
-    wanted, defaults = as_stored(config), as_stored(TrainConfig())
     base = f"{config.approach}_{config.algo}_{config.task}"
     paths = folder.glob(pattern) if pattern else [*folder.glob(f"*/{base}.json"), *folder.glob(f"*/{base}__*.json")]
-    for path in sorted(paths):
-        document = results.read_or_skip(path)
-        if document is None:
-            continue
-        # A field added after a file was written counts as its default value.
-        stored = {**{k: defaults[k] for k in wanted if k not in document["config"]}, **document["config"]}
-        if document.get("complete") and stored == wanted and document["seeds"] == seeds:
-            return path
-    return None
+    return next((path for path in sorted(paths) if documents.landed(path, config, seeds) is not None), None)

@@ -228,7 +228,7 @@ def run(results_dir: Path, only: tuple | None = None, launcher=None) -> tuple[st
         if path.exists() and (results.read_or_skip(path) or {}).get("complete"):
             print(f"skip {path}: complete")
             continue
-        jobs.append(launch.Job(path.name, runner.run, (config, seeds, path, progress)))
+        jobs.append(launch.Job(path.name, runner.run, (config, seeds, path, progress, True, True, "")))
     if launcher is None:
         launch.run(jobs)
     else:

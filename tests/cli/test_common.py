@@ -35,7 +35,10 @@ def test_a_whole_address_and_no_address_pass_and_the_seeds_follow_first_seed(tmp
     (["--slurm-gpus", "1", "--slurm-time-min", "5"], "--slurm-gpus, --slurm-time-min need --launcher slurm"),
     (["--launcher", "slurm", "--slurm-gpus", "-1"], "--slurm-gpus must be an integer in 0..16, not -1"),
     (["--launcher", "slurm", "--coordinator", "a:1", "--num-processes", "2", "--process-id", "0"],
-     "--launcher slurm submits each run as a job: leave out --coordinator/--distributed"),
+     "--launcher slurm spreads whole runs: leave out --coordinator/--distributed"),
+    (["--runs-per-device", "2", "--distributed"], "--runs-per-device spreads whole runs: leave out --coordinator"),
+    (["--launcher", "slurm", "--slurm-time-min", "10"], "--slurm-time-min 10 leaves under 5 min before the requeue "
+                                                         "signal 600 s ahead of the limit (--slurm-signal-delay-s)"),
     (["--launcher", "slurm"], "--launcher slurm: SLURM's sbatch is not on PATH; on a machine without SLURM use "
                               "--launcher local"),
 ])

@@ -80,11 +80,14 @@ def test_a_sweeps_axes_come_from_its_grid_file_and_options_and_a_word_is_refused
 
 
 def test_a_sweep_on_several_processes_makes_each_group_of_vmapped_members_a_run_of_its_own(tmp_path, monkeypatch):
+    for name in ("XLA_PYTHON_CLIENT_PREALLOCATE", "MJX_BADGER_PREALLOCATE_BEFORE"):  # the waiting process's
+        monkeypatch.delenv(name, raising=False)
     launched = []
     monkeypatch.setattr("mjx_badger.cli.common.Launch.run", lambda self, jobs, shared: launched.extend(jobs))
     command = parse(["sweep", "--approach", "jt-nf", "--vary", "algo_params.learning_rate=0.001,0.002,0.003,0.004",
                      "--vmapped", "2", "--runs-per-device", "2", "--out", str(tmp_path)])
     assert command() == 0
     assert [job.name for job in launched] == ["members 0-1", "members 2-3"]
-    assert [job.args[-1] for job in launched] == [(0, 1), (2, 3)]  # each job trains its own members
+    assert [job.args[-2] for job in launched] == [(0, 1), (2, 3)]  # each job trains its own members
+    assert [job.args[-1] for job in launched] == ["", ""]  # and returns at once where they landed
     assert all(job.args[5] is False and job.args[6] is True for job in launched)  # no bar; resumes when requeued

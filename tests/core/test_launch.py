@@ -34,33 +34,39 @@ def test_several_runs_per_device_each_get_a_process_and_their_share_of_its_memor
     pids = {(tmp_path / name).read_text().split()[0] for name in ("a", "b", "c")}
     assert len(pids) == 3 and str(os.getpid()) not in pids  # a fresh process per run
     assert {(tmp_path / name).read_text().split()[1] for name in "abc"} == {f"{launch.MEMORY_SHARE / 2:.3f}"}
-    assert [line.split(" (")[0] for line in lines] == [f"{k} of 3 runs landed" for k in (1, 2, 3)]
+    assert [line.split(":")[0] for line in lines] == [f"{k} of 3 runs ended" for k in (1, 2, 3)]
+    assert all(" landed, " in line for line in lines)
 
 
-def test_a_failed_run_is_named_after_the_others_have_finished(tmp_path):
-    jobs = [launch.Job("bad", fail, ("the reason",)), launch.Job("good", record, (str(tmp_path), "good"))]
-    with pytest.raises(launch.Failed, match="1 of 2 runs failed: bad: ValueError: the reason"):
+def die(code: int) -> None:
+    os._exit(code)
+
+
+def test_failed_and_dead_runs_are_named_after_the_others_have_ended(tmp_path):
+    jobs = [launch.Job("bad", fail, ("the reason",)), launch.Job("dead", die, (3,)),
+            launch.Job("good", record, (str(tmp_path), "good"))]
+    with pytest.raises(launch.Failed) as failed:
         launch.run(jobs, runs_per_device=2, log=lambda line: None)
-    assert (tmp_path / "good").is_file()
+    assert "2 of 3 runs failed" in str(failed.value) and "bad: ValueError: the reason" in str(failed.value)
+    assert "dead: its process ended with exit code 3 and no word" in str(failed.value)
+    assert (tmp_path / "good").is_file()  # a run that died took no other with it
 
 
-def test_an_array_task_checkpoints_every_chunk_leaves_signals_to_submitit_and_requeues_itself(tmp_path):
-    submitit = pytest.importorskip("submitit")
-    previous = signal.signal(signal.SIGTERM, signal.SIG_IGN)  # stands in for submitit's handler
-    try:
-        def inside(folder):
-            with stops.graceful():  # a run's own handlers, which a task must not install
-                assert signal.getsignal(signal.SIGTERM) == signal.SIG_IGN
-            return record(folder, "task")
+def test_a_stop_passes_on_to_the_runs_at_hand_and_starts_no_more(tmp_path, monkeypatch):
+    monkeypatch.setattr(stops, "requested", lambda: signal.SIGTERM)
+    jobs = [launch.Job(name, record, (str(tmp_path), name)) for name in ("a", "b", "c")]
+    with pytest.raises(stops.Interrupted, match="the others did not start"):
+        launch.run(jobs, runs_per_device=2, log=lambda line: None)
+    assert not list(tmp_path.iterdir())  # asked to stop before any started
 
-        task = launch.Task([launch.Job("one", inside, (str(tmp_path),))], 1, None)
-        assert task() == ["one"]
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-        os.environ.pop(launch.EVERY_CHUNK, None)
-    assert (tmp_path / "task").read_text().split()[2] == "1"
-    again = task.checkpoint()
-    assert isinstance(again, submitit.helpers.DelayedSubmission) and again.function is task
+
+def test_the_process_that_waits_spares_the_devices_memory_and_the_runs_get_it_back(monkeypatch):
+    monkeypatch.setenv(launch.PREALLOCATE, "true")
+    monkeypatch.delenv(launch._BEFORE, raising=False)
+    launch.spare_device()
+    assert os.environ[launch.PREALLOCATE] == "false"
+    launch.restore_device_memory()
+    assert os.environ[launch.PREALLOCATE] == "true" and launch._BEFORE not in os.environ
 
 
 def test_the_compile_cache_is_the_users_or_beside_the_results(tmp_path, monkeypatch):
@@ -68,8 +74,3 @@ def test_the_compile_cache_is_the_users_or_beside_the_results(tmp_path, monkeypa
     assert launch.cache_folder(tmp_path) == tmp_path / ".jax-cache"
     monkeypatch.setenv("MJX_BADGER_CACHE", str(tmp_path / "mine"))
     assert launch.cache_folder(tmp_path) == tmp_path / "mine"
-
-
-def test_slurm_is_named_when_sbatch_is_missing(monkeypatch):
-    monkeypatch.setenv("PATH", "/nonexistent")
-    assert launch.slurm_available() == "SLURM's sbatch is not on PATH"

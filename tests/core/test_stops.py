@@ -37,3 +37,10 @@ def test_inside_a_block_left_to_the_caller_a_run_keeps_the_callers_handlers():
         assert signal.getsignal(signal.SIGTERM) is caller
     finally:
         signal.signal(signal.SIGTERM, previous)
+
+
+def test_a_stop_crosses_from_a_runs_process_to_its_parent_whole():
+    import pickle
+
+    stop = pickle.loads(pickle.dumps(stops.Interrupted(signal.SIGTERM, "stopped by SIGTERM at step 200")))
+    assert stop.code == 128 + signal.SIGTERM and str(stop) == "stopped by SIGTERM at step 200"

@@ -165,6 +165,8 @@ def test_the_reality_gaps_swaps_have_their_own_table(tmp_path):
 
 
 def test_attribute_hands_its_missing_runs_to_the_launcher_once_each(tmp_path, monkeypatch):
+    for name in ("XLA_PYTHON_CLIENT_PREALLOCATE", "MJX_BADGER_PREALLOCATE_BEFORE"):  # the waiting process's
+        monkeypatch.delenv(name, raising=False)
     launched = []
     monkeypatch.setattr("mjx_badger.cli.common.Launch.run", lambda self, jobs, shared: launched.extend(jobs))
     monkeypatch.setattr(attribution, "table", lambda *args, **kwargs: "")
