@@ -48,7 +48,7 @@ def test_two_runs_per_device_give_the_numbers_of_two_runs_one_after_the_other(he
     done = subprocess.run(COMMAND + ["--results-dir", str(tmp_path), "--no-draw", "--runs-per-device", "2"],
                           capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-2000:]
-    assert "2 runs to train (local, 2 per device)" in done.stdout and "2 of 2 runs landed" in done.stdout
+    assert "2 runs to train (local, 2 per device)" in done.stdout and "2 of 2 runs ended" in done.stdout
     assert numbers(tmp_path) == numbers(here)
 
 
