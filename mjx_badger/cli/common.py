@@ -134,9 +134,8 @@ class Launch:
         if self.launcher == "local":
             return launch.run(jobs, self.runs_per_device, shared)
         if jobs:
-            resources = slurm.Slurm(self.slurm_partition, self.slurm_gpus, self.slurm_cpus, self.slurm_mem_gb,
-                                    self.slurm_time_min, self.slurm_account, self.slurm_qos, self.slurm_folder,
-                                    self.slurm_requeues, self.slurm_signal_delay_s)
+            # Each --slurm-X option is the field X of slurm.Slurm.
+            resources = slurm.Slurm(**{f.name: getattr(self, f"slurm_{f.name}") for f in dataclasses.fields(slurm.Slurm)})
             slurm.submit(jobs, self.runs_per_device, resources, shared, lambda line: print(line, flush=True))
 
 
