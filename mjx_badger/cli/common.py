@@ -77,14 +77,19 @@ class Launch:
     """Runs at once, each in its own process sharing one device (on a GPU each with 1/N of its memory); on SLURM,
     runs per array task."""
     slurm_partition: Optional[str] = None
+    """The partition the array is submitted to (default: the cluster's default partition)."""
     slurm_gpus: int = 0
     """GPUs per array task (0: CPU nodes)."""
     slurm_cpus: int = 2
+    """CPU cores per array task."""
     slurm_mem_gb: int = 16
+    """Memory per array task (GB)."""
     slurm_time_min: int = 240
     """Each task's time limit; one that reaches it is requeued and resumes from its checkpoint."""
     slurm_account: Optional[str] = None
+    """The account the tasks are charged to (default: your default account)."""
     slurm_qos: Optional[str] = None
+    """The quality of service the tasks ask for (default: the partition's)."""
     slurm_folder: Optional[Path] = None
     """Where submitit keeps the jobs' files and logs (default: <results-dir>/slurm)."""
     slurm_requeues: int = 3

@@ -74,7 +74,9 @@ class Figures:
     """Draw the figures and tables of existing results."""
 
     profile: Profile = "quick"
+    """The profile whose results are read (smoke, quick or full)."""
     protocol: ProtocolName = "thesis-code"
+    """The protocol whose results are read (thesis-code or thesis-text)."""
     results_dir: Path = Path("results")
     """Where the results are read from (<results-dir>/<profile>/<protocol>/<experiment>/; the committed ones:
     figures/data)."""
@@ -107,6 +109,7 @@ class Claims:
     """Score the thesis's simulation claims against existing results."""
 
     profile: Profile = "quick"
+    """The profile whose results are scored (smoke, quick or full; --budgets compares several)."""
     protocol: Optional[ProtocolName] = None
     """One protocol (default: both)."""
     results_dir: Path = Path("results")
@@ -152,7 +155,9 @@ class Publish:
     """Copy a profile's complete results into a reference folder, each with its best seed's policy only."""
 
     profile: Profile = "quick"
+    """The profile whose results are read (smoke, quick or full)."""
     protocol: ProtocolName = "thesis-code"
+    """The protocol whose results are read (thesis-code or thesis-text)."""
     results_dir: Path = Path("results")
     """Where the results are read from (<results-dir>/<profile>/<protocol>/)."""
     to: Optional[Path] = None
@@ -209,6 +214,7 @@ class EstimateGain:
     profile: Profile = "quick"
     """The profile of the runs (the family's value 0 is that profile's own real-world runs)."""
     protocol: ProtocolName = "thesis-code"
+    """The protocol the runs follow (thesis-code or thesis-text)."""
     results_dir: Path = Path("results")
     """Where the runs are written (<results-dir>/estimate-gain/<profile>/<protocol>/contact-trust-<v>/)."""
     values: tuple[float, ...] = estimate_gain.VALUES

@@ -45,3 +45,19 @@ def test_every_run_spec_field_is_an_option_with_its_docstring_as_help(capsys, co
     assert own in help_text  # and one of the command's own fields
 
 
+
+
+COMMANDS = ("train", "sweep", "reproduce", "figures", "claims", "publish", "attribute", "estimate-gain", "realtime",
+            "robot-server", "link-keys", "evaluate", "render", "export", "list")
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_every_option_says_what_it_does(capsys, command):
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    lines = [line.strip("│ ").strip() for line in capsys.readouterr().out.splitlines()]
+    # tyro puts an option's help on the lines after its name; an option with none shows only its default there.
+    bare = [line.split()[0] for line, after in zip(lines, lines[1:])
+            if line.startswith("--") and line.split()[0] != "--help" and after.startswith("(default:")
+            and len(line.split()) <= 2]
+    assert not bare, f"{command}: options without help text: {bare}"
