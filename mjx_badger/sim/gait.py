@@ -10,6 +10,8 @@ def gait_frequency(contacts, dt: float, low_hz: float = 0.5, high_hz: float = 12
     one cycle does not double the figure (Hann window, zero-padded to 0.01 Hz bins).
     """
     contacts = np.asarray(contacts, dtype=float)
+    if len(contacts) < 2:
+        return float("nan")  # an episode that ended at once has no contacts to read a rhythm from
     signal = (contacts - contacts.mean(axis=0)) * np.hanning(len(contacts))[:, None]
     n = max(int(round(1.0 / (0.01 * dt))), len(contacts))
     power = np.sum(np.abs(np.fft.rfft(signal, n=n, axis=0)) ** 2, axis=1)

@@ -1,5 +1,7 @@
 """Gait frequency from foot contacts: a trot's, a brushing foot's, standing still's."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -26,6 +28,13 @@ def test_a_foot_brushing_the_floor_mid_swing_does_not_double_the_frequency():
     brush = ((T * 2.0) % 1.0 > 0.2) & ((T * 2.0) % 1.0 < 0.25)  # FL touches briefly during its swing
     contacts[brush, 0] = 1
     assert gait.gait_frequency(contacts, DT) == pytest.approx(2.0, abs=0.05)
+
+
+@pytest.mark.parametrize("steps", [0, 1])
+def test_no_contacts_to_read_have_no_gait_frequency_and_no_warning(steps):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert np.isnan(gait.gait_frequency(np.zeros((steps, 4)), DT))
 
 
 def test_standing_still_has_no_gait_frequency():
