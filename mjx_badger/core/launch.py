@@ -1,9 +1,10 @@
 """Where a list of runs trains here: one after another, or several at once as processes sharing the device
 (slurm.py sends them to a SLURM cluster instead).
 
-A job is a picklable `Job(name, function, args)`; `function(*args)` trains one run (or one group of sweep
+A job is a picklable `Job(name, function, args, progress)`; `function(*args)` trains one run (or one group of sweep
 members) into its results files, resumes from its checkpoint when called again, and returns at once where its
-results already landed (so that a requeued cluster task does not train again what it had finished).
+results already landed (so that a requeued cluster task does not train again what it had finished). Its
+`progress()`, read by the waiting process every PROGRESS_EVERY_S, says how far it has come from what it saved.
 """
 
 import dataclasses
@@ -20,6 +21,8 @@ from mjx_badger.core.cache import enable_compilation_cache
 
 EVERY_CHUNK = "MJX_BADGER_CHECKPOINT_EVERY_CHUNK"
 """Set in a cluster job: its runs checkpoint after every chunk, so a preempted job loses at most one chunk."""
+PROGRESS_EVERY_S = 120.0
+"""How often the waiting process says how far the runs at hand have come (their bars would interleave)."""
 MEMORY_SHARE = 0.9
 """Of a GPU's memory, the part the runs on it share (XLA_PYTHON_CLIENT_MEM_FRACTION each: MEMORY_SHARE / N)."""
 
@@ -35,6 +38,8 @@ class Job:
     name: str
     function: Callable
     args: tuple
+    progress: Optional[Callable[[], str]] = None
+    """How far it has come, read from what it saved (None: it cannot say)."""
 
     def __call__(self):
         return self.function(*self.args)
@@ -73,6 +78,7 @@ def in_processes(jobs: list[Job], runs_per_device: int, shared: Optional[Path], 
     outcomes = context.SimpleQueue()
     waiting, running, reported, failed = list(enumerate(jobs)), {}, {}, []
     passed_on, started = False, time.perf_counter()
+    said = started
     try:
         while waiting or running:
             while waiting and len(running) < runs_per_device and not stops.requested():
@@ -98,10 +104,21 @@ def in_processes(jobs: list[Job], runs_per_device: int, shared: Optional[Path], 
                 minutes = (time.perf_counter() - started) / 60
                 log(f"{len(jobs) - len(waiting) - len(running)} of {len(jobs)} runs ended: {job.name} "
                     f"{'FAILED' if error else 'landed'}, {minutes:.1f} min")
+            if time.perf_counter() - said >= PROGRESS_EVERY_S:
+                said = time.perf_counter()
+                say_progress([job for job, _ in running.values()], log)
     finally:  # this process stops at once (a second Ctrl-C, an error): its runs with it, each from its last save
         for _, process in running.values():
             process.terminate()
     return failed
+
+
+def say_progress(jobs: list, log) -> None:
+    """A line for each job that has something to say of how far it has come."""
+    for job in jobs:
+        said = job.progress() if job.progress is not None else ""
+        if said:
+            log(f"  {job.name}: {said}")
 
 
 def _child(job: Job, index: int, fraction: str, shared: Optional[Path], in_task: bool, outcomes) -> None:

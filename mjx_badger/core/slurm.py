@@ -93,6 +93,7 @@ def wait(submitted: list, groups: list, log, array: str, poll_s: float = 5.0) ->
     """Wait for every task, saying each that ends; launch.Failed naming the failed or lost ones once all have
     ended. A stop (Ctrl-C) ends the waiting, not the tasks."""
     started, pending, failed, gone = time.perf_counter(), dict(zip(submitted, groups)), [], {}
+    said = started
     while pending:
         if stops.requested():
             raise stops.Interrupted(stops.requested(), f"stopped waiting: the {len(pending)} tasks not yet ended go "
@@ -117,6 +118,9 @@ def wait(submitted: list, groups: list, log, array: str, poll_s: float = 5.0) ->
                 names = ", ".join(j.name for j in pending.pop(job))
                 log(f"{len(submitted) - len(pending)} of {len(submitted)} tasks ended: {job.job_id} {state} "
                     f"({names}), {(time.perf_counter() - started) / 60:.1f} min")
+        if pending and time.perf_counter() - said >= launch.PROGRESS_EVERY_S:  # read from the shared results folder
+            said = time.perf_counter()
+            launch.say_progress([j for group in pending.values() for j in group], log)
         if pending:
             time.sleep(poll_s)
     if failed:

@@ -1,7 +1,9 @@
 """What a training run shows while it runs: a progress bar with the seeds' headline figures beside it."""
 
+import json
 import os
 import sys
+from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
@@ -36,3 +38,23 @@ def progress_figures(metrics: dict) -> dict:
     if np.nansum(np.asarray(metrics.get("train/blowups", 0))) > 0:
         shown["blowups"] = mean("train/blowups")
     return {k: f"{v:.2f}" for k, v in shown.items()}
+
+
+def run_progress(path, total_steps: int) -> str:
+    """A run's progress read from its results file (what a process or cluster task running it last saved): steps done,
+    rate and time left; '' before its first save and once it is complete (nothing to add to what is said then)."""
+    try:
+        document = json.loads(Path(path).read_text())
+        done, run_s = document["steps"][-1], document["wall_clock"]["run_s"]
+    except (OSError, ValueError, KeyError, IndexError, TypeError):  # not written yet, or caught mid-replace
+        return ""
+    if document.get("complete"):
+        return ""
+    rate = done / run_s if run_s > 0 else 0.0
+    left = f", {time_left((total_steps - done) / rate)}" if rate > 0 else ""
+    return f"{done:,} of {total_steps:,} steps ({rate:.1f} steps/s{left})"
+
+
+def time_left(seconds: float) -> str:
+    """'~t left' as a person reads it: minutes under an hour, hours above."""
+    return f"~{seconds / 3600:.1f} h left" if seconds >= 3600 else f"~{seconds / 60:.0f} min left"

@@ -5,6 +5,7 @@ render and score.
 force, tensorboard); everything it writes lies under those folders.
 """
 
+import functools
 import json
 import shutil
 import time
@@ -15,7 +16,7 @@ from mjx_badger.core import cluster, launch, stops
 from mjx_badger.experiments import eta
 from mjx_badger.experiments.registry import EXPERIMENTS, PROFILES, expand
 from mjx_badger.learning import checkpoints, documents, programs, runner, tensorboard
-from mjx_badger.learning.progress import progress_wanted
+from mjx_badger.learning.progress import progress_wanted, run_progress, time_left
 from mjx_badger.outputs import plots, videos
 from mjx_badger.protocol.protocols import PROTOCOLS
 from mjx_badger.records import policy, results
@@ -131,7 +132,8 @@ def launch_all(args, folder: Path, todo: list) -> None:
         if args.force:  # a requeued job must resume its own start, not an older run's checkpoint: those go first
             shutil.rmtree(checkpoints.folder(path), ignore_errors=True)
         jobs.append(launch.Job(str(path.relative_to(folder)), runner.run,
-                               (config, seeds, path, False, True, args.tensorboard, since)))
+                               (config, seeds, path, False, True, args.tensorboard, since),
+                               functools.partial(run_progress, path, config.num_chunks * config.chunk_steps)))
     print(f"{len(jobs)} runs to train ({args.launch.launcher}, {args.launch.runs_per_device} per device)", flush=True)
     try:
         args.launch.run(jobs, args.results_dir)
@@ -164,7 +166,7 @@ def overall_progress(index: int, runs: int, done: float, total: float, left_s: f
     """'run i of n, p % of the gradient updates done, ~t left' (eta.py: no ETA before a run has ended)."""
     line = f"run {index + 1} of {runs}, {100 * done / max(total, 1):.0f} % of the gradient updates done"
     if left_s is not None:
-        line += f", ~{left_s / 3600:.1f} h left" if left_s >= 3600 else f", ~{left_s / 60:.0f} min left"
+        line += f", {time_left(left_s)}"
     return line
 
 

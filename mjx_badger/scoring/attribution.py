@@ -10,6 +10,7 @@ and names the runs that show its effect and the claims it may move. Each swap is
 """
 
 import dataclasses
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +19,7 @@ from mjx_badger.core import launch
 from mjx_badger.experiments.registry import EXPERIMENTS, Profile, Run, result_name
 from mjx_badger.learning import runner
 from mjx_badger.learning.config import TrainConfig
-from mjx_badger.learning.progress import progress_wanted
+from mjx_badger.learning.progress import progress_wanted, run_progress
 from mjx_badger.protocol import protocols
 from mjx_badger.records import analysis, results
 
@@ -228,7 +229,8 @@ def run(results_dir: Path, only: tuple | None = None, launcher=None) -> tuple[st
         if path.exists() and (results.read_or_skip(path) or {}).get("complete"):
             print(f"skip {path}: complete")
             continue
-        jobs.append(launch.Job(path.name, runner.run, (config, seeds, path, progress, True, True, "")))
+        jobs.append(launch.Job(path.name, runner.run, (config, seeds, path, progress, True, True, ""),
+                               functools.partial(run_progress, path, config.num_chunks * config.chunk_steps)))
     if launcher is None:
         launch.run(jobs)
     else:

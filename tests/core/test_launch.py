@@ -1,5 +1,6 @@
 """Runs here one after another, several at once in processes of their own, or as SLURM array tasks (submitit)."""
 
+import functools
 import os
 import signal
 from pathlib import Path
@@ -36,6 +37,22 @@ def test_several_runs_per_device_each_get_a_process_and_their_share_of_its_memor
     assert {(tmp_path / name).read_text().split()[1] for name in "abc"} == {f"{launch.MEMORY_SHARE / 2:.3f}"}
     assert [line.split(":")[0] for line in lines] == [f"{k} of 3 runs ended" for k in (1, 2, 3)]
     assert all(" landed, " in line for line in lines)
+
+
+def slow_record(folder: str, name: str) -> str:
+    import time
+    time.sleep(1.5)
+    return record(folder, name)
+
+
+def test_the_waiting_process_says_how_far_the_runs_at_hand_have_come(tmp_path, monkeypatch):
+    monkeypatch.setattr(launch, "PROGRESS_EVERY_S", 0.0)  # every pass of the wait
+    jobs = [launch.Job("a", slow_record, (str(tmp_path), "a"), functools.partial(str, "3 of 5 steps")),
+            launch.Job("b", slow_record, (str(tmp_path), "b"), functools.partial(str, ""))]
+    lines = []
+    launch.run(jobs, runs_per_device=2, log=lines.append)
+    assert "  a: 3 of 5 steps" in lines
+    assert not any(line.startswith("  b") for line in lines)  # nothing to say, no line
 
 
 def die(code: int) -> None:

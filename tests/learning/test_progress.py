@@ -1,5 +1,7 @@
 """The progress bar of a run and the seed means beside it."""
 
+import json
+
 import numpy as np
 
 from mjx_badger.learning import progress
@@ -29,3 +31,20 @@ def test_the_bar_counts_steps_from_the_chunk_a_run_resumes_at(monkeypatch, capsy
     assert progress.progress_wanted() is False  # pytest's stderr is not a terminal
     monkeypatch.delenv("CI")
     assert progress.progress_wanted() is True
+
+
+def test_a_runs_progress_is_read_from_what_it_saved(tmp_path):
+    path = tmp_path / "run.json"
+    assert progress.run_progress(path, 20_000) == ""  # nothing saved yet: nothing to say
+    path.write_text(json.dumps({"steps": [1000, 2000, 4000], "wall_clock": {"run_s": 100.0}, "complete": False}))
+    # 4,000 steps in 100 s: 40 steps/s, 16,000 left in 400 s
+    assert progress.run_progress(path, 20_000) == "4,000 of 20,000 steps (40.0 steps/s, ~7 min left)"
+    path.write_text(json.dumps({"steps": [20_000], "wall_clock": {"run_s": 100.0}, "complete": True}))
+    assert progress.run_progress(path, 20_000) == ""  # complete: its landing is said instead
+    path.write_text('{"steps": [10')  # caught mid-write
+    assert progress.run_progress(path, 20_000) == ""
+
+
+def test_time_left_reads_in_minutes_under_an_hour_and_hours_above():
+    assert progress.time_left(59 * 60) == "~59 min left"
+    assert progress.time_left(5400) == "~1.5 h left"
