@@ -1,6 +1,7 @@
 """`train` one configuration over many seeds, and `sweep` a grid of its numeric parameters, as one program each."""
 
 import dataclasses
+import functools
 import shutil
 import sys
 from pathlib import Path
@@ -11,6 +12,7 @@ import tyro
 from mjx_badger.cli.common import Cluster, Flat, Launch, Runs, check_seed_devices
 from mjx_badger.core import launch
 from mjx_badger.learning import memory, runner, sweep
+from mjx_badger.learning.progress import run_progress
 from mjx_badger.records import results
 
 
@@ -93,15 +95,19 @@ class Sweep(Runs):
 
     def launched(self) -> int:
         """Each group of --vmapped members as a run of its own process or cluster job (each resumes when requeued)."""
-        axes, size = self.axes(), len(sweep.members(self.run, self.axes()))
+        axes = self.axes()
+        grid, fields = sweep.members(self.run, axes), [field for field, _ in axes]
         since = results.now() if self.restart else ""  # what landed before a --restart is trained again
+        # A group's members train in one program and save together: its first member's file says how far it has come.
         jobs = [launch.Job(f"members {part[0]}-{part[-1]}", sweep.run,
                            (self.run, axes, self.seed_list, self.out, self.vmapped, False, True, self.tensorboard, part,
-                            since))
-                for part in sweep.parts(size, self.vmapped)]
+                            since),
+                           functools.partial(run_progress, self.out / f"{sweep.member_name(grid[part[0]], fields)}.json",
+                                             grid[part[0]].num_chunks * grid[part[0]].chunk_steps))
+                for part in sweep.parts(len(grid), self.vmapped)]
         if self.restart:  # a requeued job resumes its own start, not an older sweep's checkpoint: those go first
             for path in [self.out / f"sweep_{self.run.name}.ckpt", *self.out.glob(f"sweep_{self.run.name}_members_*.ckpt")]:
                 shutil.rmtree(path, ignore_errors=True)
         self.launch.run(jobs, self.out)
-        print(f"{size} members x {self.seeds} seeds in {len(jobs)} runs: results in {self.out}")
+        print(f"{len(grid)} members x {self.seeds} seeds in {len(jobs)} runs: results in {self.out}")
         return 0

@@ -201,8 +201,13 @@ class Sweep:
 
     def name(self, config: TrainConfig) -> str:
         """The results file name of a member: the run's name and its swept values."""
-        swept = "_".join(f"{f.split('.', 1)[1]}={_value(config, f):g}" for f in self.fields)
-        return f"{config.name}_{swept}"
+        return member_name(config, self.fields)
+
+
+def member_name(config: TrainConfig, fields: list[str]) -> str:
+    """The results file name of a sweep member (without .json): the run's name and its swept values."""
+    swept = "_".join(f"{f.split('.', 1)[1]}={_value(config, f):g}" for f in fields)
+    return f"{config.name}_{swept}"
 
 
 def run(base: TrainConfig, axes: tuple, seeds: list[int], out_dir: Path, vmapped: int = 1, progress: bool = True,

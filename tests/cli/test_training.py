@@ -1,5 +1,7 @@
 """`train` and `sweep`: names, counts, protocol fields and parameters checked in one line before compiling."""
 
+import json
+
 import pytest
 
 from mjx_badger.cli import training
@@ -91,3 +93,10 @@ def test_a_sweep_on_several_processes_makes_each_group_of_vmapped_members_a_run_
     assert [job.args[-2] for job in launched] == [(0, 1), (2, 3)]  # each job trains its own members
     assert [job.args[-1] for job in launched] == ["", ""]  # and returns at once where they landed
     assert all(job.args[5] is False and job.args[6] is True for job in launched)  # no bar; resumes when requeued
+    # The waiting process reads a group's progress from its first member's file, which the group saves each chunk.
+    assert launched[1].progress() == ""  # nothing saved yet
+    first = tmp_path / "jt-nf_crossq_forward_learning_rate=0.003.json"
+    first.write_text(json.dumps({"steps": [1000, 2000], "wall_clock": {"run_s": 100.0}}))
+    total = launched[1].progress.args[1]
+    assert launched[1].progress() == f"2,000 of {total:,} steps (20.0 steps/s, ~{(total - 2000) / 20 / 60:.0f} min left)"
+    assert launched[0].progress() == ""  # the other group's own file
