@@ -18,7 +18,7 @@ import numpy as np
 from mjx_badger.core import launch
 from mjx_badger.experiments.registry import EXPERIMENTS, Profile, Run, result_name
 from mjx_badger.learning import runner
-from mjx_badger.learning.config import TrainConfig
+from mjx_badger.learning.config import TrainConfig, from_results
 from mjx_badger.learning.progress import progress_wanted, run_progress
 from mjx_badger.protocol import protocols
 from mjx_badger.records import analysis, results
@@ -191,6 +191,24 @@ def _words(value, measure: str) -> str:
     return f"{value:.2f} m/s"
 
 
+def _flat(value, prefix: str = "") -> dict:
+    """A nested settings object as {'a.b': leaf}."""
+    if dataclasses.is_dataclass(value):
+        value = {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}
+    if not isinstance(value, dict):
+        return {prefix: value}
+    return {k: v for key, inner in value.items() for k, v in _flat(inner, f"{prefix}{key}.").items()}
+
+
+def baseline_differs(swap: Swap, base: dict, swapped: dict) -> list[str]:
+    """The conditions in which a swapped run differs from its baseline's beyond the swap itself: the fields a rule
+    changed after one of them ran (such a row compares more than one condition, so it is not scored)."""
+    base_config, swapped_config = from_results(base), from_results(swapped)
+    expected = dataclasses.replace(base_config, condition_changes=base_config.condition_changes + swap.condition_changes)
+    want, got = (_flat(config.env_config.conditions) for config in (expected, swapped_config))
+    return sorted(k.rstrip(".") for k in want.keys() | got.keys() if want.get(k) != got.get(k))
+
+
 def table(results_dir: Path, conditions: bool = False) -> str:
     """Markdown 'departure -> claims it moves' of the complete attribution results: the protocol swaps
     (docs/attribution.md), or with `conditions` the reality gap's swaps (docs/real-world.md)."""
@@ -208,6 +226,12 @@ def table(results_dir: Path, conditions: bool = False) -> str:
                 folder(results_dir, swap, swap.base) / swap.experiment / result_name(run))
             if not swapped_path.exists() or not (results.read_or_skip(swapped_path) or {}).get("complete"):
                 continue  # not run yet, or still running
+            differs = baseline_differs(swap, results.read(base_path), results.read(swapped_path)) \
+                if swap.condition_changes else []  # the conditions' fields are the ones added since runs were made
+            if differs:
+                lines.append(f"| {swap.name} ({swap.describe()}) | {swap.experiment} {run.approach} | ran beside another "
+                             f"baseline ({', '.join(differs)} differ): rerun it | | {', '.join(swap.claims)} |")
+                continue
             swapped_measures = (swap.counted_as,) if swap.counted_as else swap.measures
             cells = ["; ".join(_words(_figure(path, swap, measure), measure) for measure in measures)
                      for path, measures in ((base_path, swap.measures), (swapped_path, swapped_measures))]

@@ -1,6 +1,7 @@
 """One-factor swaps: each sets real protocol fields to the other protocol's values, or one on-robot condition to
 another, beside a shared baseline."""
 
+import dataclasses
 import json
 
 import pytest
@@ -10,6 +11,11 @@ from mjx_badger.learning.config import TrainConfig
 from mjx_badger.protocol import protocols
 from mjx_badger.records import results
 from mjx_badger.scoring import attribution, claims, real_world
+
+
+def written(config: TrainConfig) -> dict:
+    """A config as a results file holds it (JSON: lists for tuples)."""
+    return json.loads(json.dumps(results.config_dict(config)))
 
 
 def test_every_swap_changes_fields_to_the_other_protocols_values_and_names_real_claims():
@@ -154,9 +160,9 @@ def test_the_reality_gaps_swaps_have_their_own_table(tmp_path):
                    "eval/estimated_desired_velocity": [[0.0, 0.0], [estimated, estimated]],
                    "train/falls_total": [[1.0, 3.0], [2.0, 4.0]], "train/falls": [[1.0, 3.0], [2.0, 4.0]],
                    "train/forward_velocity": [[0.0, 0.0], [true, true]]}
+        config = written(attribution.train_config(swap, run, baseline=where is None))
         path.write_text(json.dumps({"schema": results.SCHEMA, "steps": [1000, 2000], "sim_minutes": [0.4, 0.8],
-                                    "seeds": [0, 1], "complete": True, "config": {"warmup_steps": 1000},
-                                    "metrics": metrics}))
+                                    "seeds": [0, 1], "complete": True, "config": config, "metrics": metrics}))
     gap = attribution.table(tmp_path, conditions=True)
     assert gap.startswith("| condition set back to the simulation's | run | outdoor baseline |")
     row = [line for line in gap.splitlines() if line.startswith("| true velocity in the loop")]
@@ -176,3 +182,24 @@ def test_attribute_hands_its_missing_runs_to_the_launcher_once_each(tmp_path, mo
     assert [job.args[2] for job in launched] == planned and len(set(planned)) == len(planned)
     # The waiting process reads each run's progress from its own results file.
     assert [job.progress.args[0] for job in launched] == planned and launched[0].progress() == ""
+
+
+def test_a_swap_that_ran_beside_another_baseline_is_named_not_scored(tmp_path):
+    # The baseline reran after a condition's default changed (here the robot's CPG swing); the swapped run did not.
+    swap = attribution.SWAPS_BY_NAME["no incline"]
+    run = swap.runs()[0]
+    swapped = attribution.train_config(swap, run)
+    older = dataclasses.replace(swapped, condition_changes=swapped.condition_changes + (("cpg_swing_height_m", None),
+                                                                                        ("stop_on_sensed", False)))
+    base = {"config": written(attribution.train_config(swap, run, baseline=True))}
+    assert attribution.baseline_differs(swap, base, {"config": written(swapped)}) == []
+    assert attribution.baseline_differs(swap, base, {"config": written(older)}) == [
+        "cpg_swing_height_m", "stop_on_sensed"]
+    for where, config in ((None, base["config"]), (swap, written(older))):
+        path = attribution.folder(tmp_path, where, swap.base, swap.conditions) / swap.experiment / attribution.result_name(run)
+        path.parent.mkdir(parents=True)
+        path.write_text(json.dumps({"schema": results.SCHEMA, "steps": [1000], "sim_minutes": [0.4], "seeds": [0, 1],
+                                    "complete": True, "config": config, "metrics": {}}))
+    row = [line for line in attribution.table(tmp_path, conditions=True).splitlines() if line.startswith("| no incline")]
+    assert row == ["| no incline (ground.incline_deg=0.0) | real-outdoor jt-oef | ran beside another baseline "
+                   "(cpg_swing_height_m, stop_on_sensed differ): rerun it | | real-outdoor-jt, real-outdoor-cpg |"]
