@@ -51,6 +51,8 @@ def run_progress(path, total_steps: int) -> str:
     if document.get("complete"):
         return ""
     rate = done / run_s if run_s > 0 else 0.0
+    if done >= total_steps:  # trained; the gait record, the policy and the summary are still to be written
+        return f"{done:,} of {total_steps:,} steps ({rate:.1f} steps/s), finishing"
     left = f", {time_left((total_steps - done) / rate)}" if rate > 0 else ""
     return f"{done:,} of {total_steps:,} steps ({rate:.1f} steps/s{left})"
 

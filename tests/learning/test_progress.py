@@ -39,6 +39,8 @@ def test_a_runs_progress_is_read_from_what_it_saved(tmp_path):
     path.write_text(json.dumps({"steps": [1000, 2000, 4000], "wall_clock": {"run_s": 100.0}, "complete": False}))
     # 4,000 steps in 100 s: 40 steps/s, 16,000 left in 400 s
     assert progress.run_progress(path, 20_000) == "4,000 of 20,000 steps (40.0 steps/s, ~7 min left)"
+    path.write_text(json.dumps({"steps": [20_000], "wall_clock": {"run_s": 500.0}, "complete": False}))
+    assert progress.run_progress(path, 20_000) == "20,000 of 20,000 steps (40.0 steps/s), finishing"
     path.write_text(json.dumps({"steps": [20_000], "wall_clock": {"run_s": 100.0}, "complete": True}))
     assert progress.run_progress(path, 20_000) == ""  # complete: its landing is said instead
     path.write_text('{"steps": [10')  # caught mid-write
