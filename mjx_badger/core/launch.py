@@ -45,6 +45,10 @@ class Job:
         return self.function(*self.args)
 
 
+STOPPED = "stopped by a signal"
+"""How a run's process reports that a signal stopped it after its last save."""
+
+
 def run(jobs: list[Job], runs_per_device: int = 1, shared: Optional[Path] = None,
         log: Callable[[str], None] = lambda line: print(line, flush=True)) -> None:
     """Run every job here: one after another in this process, or `runs_per_device` at a time in processes of their
@@ -102,8 +106,10 @@ def in_processes(jobs: list[Job], runs_per_device: int, shared: Optional[Path], 
                 if error:
                     failed.append(f"{job.name}: {error}")
                 minutes = (time.perf_counter() - started) / 60
+                outcome = "stopped, resumes from its last save" if error.startswith(STOPPED) else \
+                    "FAILED" if error else "landed"
                 log(f"{len(jobs) - len(waiting) - len(running)} of {len(jobs)} runs ended: {job.name} "
-                    f"{'FAILED' if error else 'landed'}, {minutes:.1f} min")
+                    f"{outcome}, {minutes:.1f} min")
             if time.perf_counter() - said >= PROGRESS_EVERY_S:
                 said = time.perf_counter()
                 say_progress([job for job, _ in running.values()], log)
@@ -135,6 +141,8 @@ def _child(job: Job, index: int, fraction: str, shared: Optional[Path], in_task:
     try:
         job()
         error = ""
+    except stops.Interrupted as stop:  # asked to stop (the Ctrl-C passed on): it saved, it did not fail
+        error = f"{STOPPED}: {stop}"
     except BaseException as failure:  # reported, not raised: the parent names it beside the others
         error = f"{type(failure).__name__}: {failure}"
     outcomes.put((index, error))

@@ -59,6 +59,19 @@ def die(code: int) -> None:
     os._exit(code)
 
 
+def stopped(signum: int) -> None:
+    raise stops.Interrupted(signum, "stopped after saving")
+
+
+def test_a_run_stopped_by_a_signal_is_said_to_have_stopped_not_failed(tmp_path):
+    lines = []
+    jobs = [launch.Job("asked", stopped, (signal.SIGINT,)), launch.Job("good", record, (str(tmp_path), "good"))]
+    with pytest.raises(launch.Failed, match="asked: stopped by a signal"):  # it did not land: the command says so
+        launch.run(jobs, runs_per_device=2, log=lines.append)
+    said = {line.split(" runs ended: ")[1].rsplit(", ", 1)[0] for line in lines}
+    assert said == {"asked stopped, resumes from its last save", "good landed"}
+
+
 def test_failed_and_dead_runs_are_named_after_the_others_have_ended(tmp_path):
     jobs = [launch.Job("bad", fail, ("the reason",)), launch.Job("dead", die, (3,)),
             launch.Job("good", record, (str(tmp_path), "good"))]
