@@ -253,7 +253,8 @@ def run(results_dir: Path, only: tuple | None = None, launcher=None) -> tuple[st
         if path.exists() and (results.read_or_skip(path) or {}).get("complete"):
             print(f"skip {path}: complete")
             continue
-        jobs.append(launch.Job(path.name, runner.run, (config, seeds, path, progress, True, True, ""),
+        name = str(path.relative_to(Path(results_dir) / "attribution"))  # with its folder: runs share file names
+        jobs.append(launch.Job(name, runner.run, (config, seeds, path, progress, True, True, ""),
                                functools.partial(run_progress, path, config.num_chunks * config.chunk_steps)))
     if launcher is None:
         launch.run(jobs)

@@ -180,6 +180,7 @@ def test_attribute_hands_its_missing_runs_to_the_launcher_once_each(tmp_path, mo
     assert main(["attribute", "--only", swap, "--results-dir", str(tmp_path), "--runs-per-device", "2"]) == 0
     planned = [path for *_, path in attribution.planned(tmp_path, (attribution.SWAPS_BY_NAME[swap],))]
     assert [job.args[2] for job in launched] == planned and len(set(planned)) == len(planned)
+    assert [job.name for job in launched] == [str(path.relative_to(tmp_path / "attribution")) for path in planned]
     # The waiting process reads each run's progress from its own results file.
     assert [job.progress.args[0] for job in launched] == planned and launched[0].progress() == ""
 
