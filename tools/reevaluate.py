@@ -50,9 +50,12 @@ def why(row: dict) -> str:
         return ("training's evaluation ran past the episode's time limit and scored the restart against a command "
                 "the task drew, not this one (sim/evaluation.py, fixed after these runs)")
     mjx, native = row.get("mjx_at_training_length"), row.get("native_at_training_length")
-    if mjx and not differs(mjx["heading_velocity_along_command"], last) and differs(
-            native["heading_velocity_along_command"], last):
-        return (f"the engine: MJX at training's length agrees ({mjx['heading_velocity_along_command']:.2f} m/s, "
+    # MJX reaching training's figure (within 20 %, or past it: the outdoor draws of friction and noise differ from
+    # training's) where native MuJoCo falls short puts the shortfall on the engine.
+    if mjx and (not differs(mjx["heading_velocity_along_command"], last) or mjx["heading_velocity_along_command"] > last) \
+            and differs(native["heading_velocity_along_command"], last) and native["heading_velocity_along_command"] < last:
+        verb = "agrees" if not differs(mjx["heading_velocity_along_command"], last) else "walks as fast or faster"
+        return (f"the engine: MJX at training's length {verb} ({mjx['heading_velocity_along_command']:.2f} m/s, "
                 f"{mjx['falls']} falls), native MuJoCo does not ({native['heading_velocity_along_command']:.2f} m/s, "
                 f"{native['falls']} falls)")
     if native and not differs(native["heading_velocity_along_command"], last):

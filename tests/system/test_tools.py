@@ -1,4 +1,5 @@
-"""tools/profile_time.py reads a pause log: which SIGSTOPs a run's clock counted."""
+"""tools/profile_time.py reads a pause log: which SIGSTOPs a run's clock counted; tools/reevaluate.py names why an
+evaluation differs from training's."""
 
 import importlib.util
 from pathlib import Path
@@ -6,6 +7,9 @@ from pathlib import Path
 spec = importlib.util.spec_from_file_location("profile_time", Path(__file__).parents[2] / "tools" / "profile_time.py")
 profile_time = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(profile_time)
+spec = importlib.util.spec_from_file_location("reevaluate", Path(__file__).parents[2] / "tools" / "reevaluate.py")
+reevaluate = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(reevaluate)
 
 LOG = """\
 2026-12-03T10:00:00+00:00 START attempt 1
@@ -68,3 +72,20 @@ def test_many_nodes_are_bound_by_the_longest_run_and_sharing_a_node_slows_it():
     assert rows[3, 1]["wall_h"] == 10 and rows[3, 1]["bound"] == "the longest run"
     assert rows[3, 2]["wall_h"] == 15 and rows[3, 2]["bound"] == "the longest run"
     assert rows[1, 2]["wall_h"] == 15 and rows[1, 2]["bound"] == "the longest run"  # two slots: long | a + b
+
+
+def test_a_difference_is_put_on_the_engine_where_mjx_reaches_trainings_figure_and_native_mujoco_falls_short():
+    row = {"heading_velocity_along_command": 0.10, "training_eval": 0.37, "training_eval_last": 0.32,
+           "native_at_training_length": {"heading_velocity_along_command": 0.16, "falls": 11},
+           "mjx_at_training_length": {"heading_velocity_along_command": 0.30, "falls": 1}}
+    assert reevaluate.why(row).startswith("the engine: MJX at training's length agrees (0.30 m/s, 1 falls)")
+    row["mjx_at_training_length"]["heading_velocity_along_command"] = 0.42  # past it: another draw of the ground
+    assert reevaluate.why(row).startswith("the engine: MJX at training's length walks as fast or faster (0.42 m/s")
+    row["mjx_at_training_length"]["heading_velocity_along_command"] = 0.20  # short of it too: not the engine
+    assert reevaluate.why(row) == "unexplained by the policy's last chunk, the engine or the length"
+    row["native_at_training_length"]["heading_velocity_along_command"] = 0.30  # native agrees over the same length
+    assert reevaluate.why(row) == "the length: over training's evaluation length native MuJoCo agrees"
+    row["heading_velocity_along_command"] = 0.29  # within 20 % of the last chunk's evaluation, not of the final chunks'
+    assert reevaluate.why(row).startswith("the policy changed over the final chunks")
+    row["heading_velocity_along_command"] = 0.36
+    assert reevaluate.why(row) == "agrees"
