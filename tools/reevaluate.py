@@ -50,14 +50,14 @@ def why(row: dict) -> str:
         return ("training's evaluation ran past the episode's time limit and scored the restart against a command "
                 "the task drew, not this one (sim/evaluation.py, fixed after these runs)")
     mjx, native = row.get("mjx_at_training_length"), row.get("native_at_training_length")
+    speed = lambda run: run["heading_velocity_along_command"]
     # MJX reaching training's figure (within 20 %, or past it: the outdoor draws of friction and noise differ from
     # training's) where native MuJoCo falls short puts the shortfall on the engine.
-    if mjx and (not differs(mjx["heading_velocity_along_command"], last) or mjx["heading_velocity_along_command"] > last) \
-            and differs(native["heading_velocity_along_command"], last) and native["heading_velocity_along_command"] < last:
-        verb = "agrees" if not differs(mjx["heading_velocity_along_command"], last) else "walks as fast or faster"
-        return (f"the engine: MJX at training's length {verb} ({mjx['heading_velocity_along_command']:.2f} m/s, "
-                f"{mjx['falls']} falls), native MuJoCo does not ({native['heading_velocity_along_command']:.2f} m/s, "
-                f"{native['falls']} falls)")
+    if mjx and (not differs(speed(mjx), last) or speed(mjx) > last) and differs(speed(native), last) \
+            and speed(native) < last:
+        verb = "agrees" if not differs(speed(mjx), last) else "walks as fast or faster"
+        return (f"the engine: MJX at training's length {verb} ({speed(mjx):.2f} m/s, {mjx['falls']} falls), "
+                f"native MuJoCo does not ({speed(native):.2f} m/s, {native['falls']} falls)")
     if native and not differs(native["heading_velocity_along_command"], last):
         return "the length: over training's evaluation length native MuJoCo agrees"
     return "unexplained by the policy's last chunk, the engine or the length"
