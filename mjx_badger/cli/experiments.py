@@ -239,7 +239,8 @@ class EstimateGain:
             estimate_gain.run(self.results_dir, self.profile, self.protocol, self.values)
         rows = estimate_gain.score(self.results_dir, self.profile, self.protocol, self.values)
         for row in rows:
-            gain = "no moments" if row["gain"] is None else f"slope {row['gain']['slope']:.2f}"
+            gain = ("no moments" if row["gain"] is None
+                    else f"slope {row['gain']['slope']:.2f}, {gain_figure.walk_label(row)}")
             held = [k for k, f in row["findings"].items() if f["holds"]]
             print(f"contact_trust {row['value']:g}: {gain}; holds: {', '.join(held) or 'none'}")
         if self.json:

@@ -20,14 +20,20 @@ def held(row: dict) -> int:
     return sum(bool(f["holds"]) for f in row["findings"].values())
 
 
-def band(rows: list[dict]) -> tuple[float, float] | None:
-    """(lowest, highest) slope of the values at which the most findings hold, None where none holds anywhere."""
+def band(rows: list[dict], measure: str = "slope") -> tuple[float, float] | None:
+    """(lowest, highest) `measure` (slope or walk_ratio) of the values at which the most findings hold, None where
+    none holds anywhere."""
     rows = placed(rows)
     best = max((held(row) for row in rows), default=0)
-    if best == 0:
+    gains = [row["gain"][measure] for row in rows if held(row) == best and row["gain"].get(measure) is not None]
+    if best == 0 or not gains:
         return None
-    slopes = [row["gain"]["slope"] for row in rows if held(row) == best]
-    return min(slopes), max(slopes)
+    return min(gains), max(gains)
+
+
+def walk_label(row: dict) -> str:
+    ratio = row["gain"].get("walk_ratio")
+    return "walk: none" if ratio is None else f"walk {ratio:.2f}"
 
 
 def figure(rows: list[dict], out: Path, label: str) -> Path:
@@ -41,9 +47,11 @@ def figure(rows: list[dict], out: Path, label: str) -> Path:
             holds = row["findings"][claim]["holds"]
             marker, color = ("o", "tab:green") if holds else ("x", "tab:red") if holds is False else ("?", "tab:gray")
             findings_ax.scatter(slope, y, marker=marker if marker != "?" else "$?$", color=color, s=70)
-        findings_ax.annotate(f"trust {row['value']:g}", (slope, len(ids) - 0.4), fontsize=7, ha="center")
+        # The slope overstates what a walking policy is rewarded for (scoring/estimate_gain.walk_ratio): both shown.
+        findings_ax.annotate(f"trust {row['value']:g}\n{walk_label(row)}", (slope, len(ids) - 0.45), fontsize=7,
+                             ha="center")
     findings_ax.set_yticks(range(len(ids)), ids)
-    findings_ax.set_ylim(-0.6, len(ids) - 0.1)
+    findings_ax.set_ylim(-0.6, len(ids) + 0.2)
     findings_ax.set_title("(a) each real-world finding: o holds, x fails", fontsize=9)
     thesis = EXPERIMENTS["real-office"].thesis_numbers
     for approach in APPROACHES:

@@ -31,9 +31,19 @@ def test_each_value_is_scored_at_the_gain_its_runs_measured(tmp_path):
     row = estimate_gain.score(tmp_path, "quick", "thesis-code", (0.5,))[0]
     assert abs(row["gain"]["slope"] - 0.5) < 1e-9
     assert abs(row["gain"]["correlation"] - 1.0) < 1e-9
+    assert abs(row["gain"]["walk_ratio"] - 0.05 / 0.3) < 1e-6  # at evaluation the walk is believed far less
     assert row["runs"]["real-office"]["jt-oef"]["velocity"] == 0.3
     assert row["findings"]["real-faster-than-believed"]["holds"] is True  # 0.3 true against 0.05 believed
     assert row["findings"]["real-office-speeds"]["holds"] is None  # the other runs are not there
+
+
+def test_the_walk_ratio_averages_the_walking_runs_own_estimated_over_true_speed():
+    speeds = {"real-office": {"jt-oef": {"velocity": 0.4, "estimated_velocity": 0.1},
+                              "cpg-d": {"velocity": 0.02, "estimated_velocity": 0.01}},  # standing: left out
+              "real-outdoor": {"jt-oef": {"velocity": 0.2, "estimated_velocity": 0.01},
+                               "cpg-vf": {"velocity": 0.3, "estimated_velocity": float("nan")}}}  # no estimate
+    assert abs(estimate_gain.walk_ratio(speeds) - (0.25 + 0.05) / 2) < 1e-12
+    assert estimate_gain.walk_ratio({"real-office": {"cpg-d": {"velocity": 0.0, "estimated_velocity": 0.0}}}) is None
 
 
 def test_a_value_out_of_the_family_is_refused_before_anything_runs(tmp_path, capsys):
