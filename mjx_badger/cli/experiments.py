@@ -243,6 +243,7 @@ class EstimateGain:
                     else f"slope {row['gain']['slope']:.2f}, {gain_figure.walk_label(row)}")
             held = [k for k, f in row["findings"].items() if f["holds"]]
             print(f"contact_trust {row['value']:g}: {gain}; holds: {', '.join(held) or 'none'}")
+        print(gain_figure.band_line(rows))
         if self.json:
             safe_io.write_text(self.json, json.dumps(rows, indent=1) + "\n")
         if self.figure:

@@ -31,6 +31,15 @@ def band(rows: list[dict], measure: str = "slope") -> tuple[float, float] | None
     return min(gains), max(gains)
 
 
+def band_line(rows: list[dict]) -> str:
+    """The band that agrees with the thesis, in the training slope and in the walk's own ratio, in words."""
+    slopes, walks = band(rows), band(rows, "walk_ratio")
+    if slopes is None:
+        return "no value makes any finding hold: no band"
+    walk = "none walks" if walks is None else f"{walks[0]:.2f}-{walks[1]:.2f}"
+    return f"most findings hold at slope {slopes[0]:.2f}-{slopes[1]:.2f}, walk ratio {walk}"
+
+
 def walk_label(row: dict) -> str:
     ratio = row["gain"].get("walk_ratio")
     return "walk: none" if ratio is None else f"walk {ratio:.2f}"

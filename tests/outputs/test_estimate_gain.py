@@ -21,6 +21,8 @@ def test_the_band_is_also_given_in_the_walks_own_ratio_where_measured():
             _row(1.0, 0.9, {"a", "b"}, walk=0.4)]  # 0.5: nobody walked, no ratio
     assert estimate_gain.band(rows, "walk_ratio") == (0.1, 0.4)
     assert estimate_gain.walk_label(rows[2]) == "walk: none" and estimate_gain.walk_label(rows[3]) == "walk 0.40"
+    assert estimate_gain.band_line(rows) == "most findings hold at slope 0.70-0.90, walk ratio 0.10-0.40"
+    assert estimate_gain.band_line([_row(0.0, 0.6, set())]) == "no value makes any finding hold: no band"
 
 
 def test_the_figure_draws_the_placed_rows(tmp_path):
