@@ -49,6 +49,18 @@ def check_seeds_divide(num_seeds: int, num_devices: int) -> None:
                          "XLA_FLAGS=--xla_force_host_platform_device_count on a CPU)")
 
 
+def fresh_trace() -> None:
+    """Forget what this process traced before, so a program's module is the one a new process builds.
+
+    JAX reuses the traces of its jitted helpers (jnp.remainder, ...) from bounded caches: after another large
+    program, some are traced anew and lowered as separate functions, so the module, and with it the compile
+    cache's key, depends on what ran before (a CPG-D chunk after JT-OEF's: 8.48 MB against 8.46 MB of text). A
+    resumed or requeued run in a new process would then miss the cache a sequential run wrote, and compile again.
+    The price: this process's other jitted functions trace again and load from the compile cache.
+    """
+    jax.clear_caches()
+
+
 # The programs of the last few configurations this process compiled, by (config, seed count): a later
 # run of the same shapes (a test suite, a resumed or repeated run) neither traces nor compiles again.
 _PROGRAMS: collections.OrderedDict = collections.OrderedDict()
@@ -68,17 +80,22 @@ class Program(NamedTuple):
     """jit(vmap(gait)): the gait record after training."""
 
 
+def lowered_chunk(trainer, num_seeds: int):
+    """`trainer`'s chunk for `num_seeds` seeds, traced from a clean slate (fresh_trace) and lowered, not compiled."""
+    fresh_trace()
+    carry = jax.eval_shape(jax.vmap(trainer.init), jax.vmap(jax.random.PRNGKey)(jnp.arange(num_seeds)))
+    return jax.jit(seeds_chunk(trainer, num_seeds), donate_argnums=0).lower(carry, 0)
+
+
 def program(trainer, num_seeds: int) -> tuple[Program, float]:
     """(`trainer`'s program for `num_seeds` seeds, seconds spent compiling it now: 0 when this process had it)."""
     key = (trainer.config, num_seeds)
     if key in _PROGRAMS:
         _PROGRAMS.move_to_end(key)
         return _PROGRAMS[key], 0.0
-    init = jax.jit(jax.vmap(trainer.init))
-    carry = jax.eval_shape(init, jax.vmap(jax.random.PRNGKey)(jnp.arange(num_seeds)))
     t0 = time.perf_counter()
-    chunk = jax.jit(seeds_chunk(trainer, num_seeds), donate_argnums=0).lower(carry, 0).compile()
-    built = Program(init, chunk, jax.jit(jax.vmap(trainer.gait)))
+    chunk = lowered_chunk(trainer, num_seeds).compile()
+    built = Program(jax.jit(jax.vmap(trainer.init)), chunk, jax.jit(jax.vmap(trainer.gait)))
     _PROGRAMS[key] = built
     while len(_PROGRAMS) > KEPT_PROGRAMS:
         _PROGRAMS.popitem(last=False)
@@ -100,6 +117,7 @@ def compiled(trainer, seeds: list[int]):
     # program is lowered from shapes with that device as the default, as `program` lowers a one-device run
     # (the same module text), and donates its carry as that one does; where JAX's compile cache leaves the
     # device out of its key (on GPUs), the devices after the first load the first's.
+    fresh_trace()
     devices = list(sharding.mesh.devices.flat)
     local = len(seeds) // len(devices)
     mine = [(i, device) for i, device in enumerate(devices) if device.process_index == jax.process_index()]

@@ -30,7 +30,7 @@ import numpy as np
 from mjx_badger.core import stops
 from mjx_badger.learning import documents, runner
 from mjx_badger.learning.config import TrainConfig
-from mjx_badger.learning.programs import seeds_chunk
+from mjx_badger.learning.programs import fresh_trace, seeds_chunk
 from mjx_badger.learning.train import make_train
 from mjx_badger.records import results
 
@@ -182,6 +182,7 @@ class Sweep:
 
     def compiled(self):
         """(initial carry, compiled chunk, compile seconds); the carry is (swept values, members x seeds carry)."""
+        fresh_trace()  # the module a resumed sweep's new process builds: it loads from the compile cache
         carry = (self.values, self.init())
 
         def chunk(carry, start):

@@ -6,6 +6,7 @@ import jax
 import numpy as np
 import pytest
 
+from mjx_badger.experiments.registry import EXPERIMENTS
 from mjx_badger.learning import programs, runner
 from mjx_badger.learning.train import make_train
 from tests.conftest import COMPILES, TINY_TRAIN, run_all_chunks, seed_keys, traced
@@ -64,3 +65,41 @@ def test_a_short_chunk_is_timed_on_this_machine():
     jax.block_until_ready(chunk(carry, 20))
     timed = 2 * 20 / (time.perf_counter() - started)
     assert timed / 3 < measured["seed_steps_per_s"] < 3 * timed
+
+
+class _Recording:
+    """A trainer of one number whose tracing is logged beside JAX's cache clearing."""
+
+    def __init__(self, log):
+        self.config, self.log = ("recording", id(self)), log
+
+    def init(self, key):
+        self.log.append("traced")
+        return {"x": jax.random.uniform(key, (2,))}
+
+    def chunk(self, carry, start):
+        return {"x": carry["x"] + start}, {"sum": carry["x"].sum()}
+
+    def gait(self, carry):
+        return carry["x"]
+
+
+def test_a_new_program_is_traced_from_a_clean_slate(monkeypatch):
+    """What the process traced before must not shape the module (the compile cache's key); see the slow test."""
+    log = []
+    monkeypatch.setattr(programs.jax, "clear_caches", lambda: log.append("cleared"))
+    built, _ = programs.program(_Recording(log), 2)
+    assert log[0] == "cleared" and log.count("cleared") == 1 and "traced" in log
+    carry, metrics = built.chunk(built.init(seed_keys([0, 1])), 3)
+    np.testing.assert_allclose(np.asarray(metrics["sum"]) + 6, np.asarray(carry["x"]).sum(axis=1))
+
+
+@pytest.mark.slow  # three CPG and JT programs traced (no compile): a minute or two
+def test_a_programs_module_does_not_depend_on_what_the_process_traced_before():
+    """Traced after JT-OEF's chunk without a clean slate, CPG-D's smoke chunk lowers to another module (8.48 MB of
+    text against 8.46 MB), so a requeued or resumed run in a new process would miss the compile cache."""
+    experiment = EXPERIMENTS["real-outdoor-omni"]
+    trainers = {run.approach: make_train(experiment.train_config(run, "smoke")) for run in experiment.runs}
+    first = programs.lowered_chunk(trainers["cpg-d"], 2).as_text()
+    programs.lowered_chunk(trainers["jt-oef"], 2)
+    assert programs.lowered_chunk(trainers["cpg-d"], 2).as_text() == first
