@@ -41,6 +41,7 @@ def band_line(rows: list[dict]) -> str:
 
 
 def walk_label(row: dict) -> str:
+    """'walk 0.04': a value's walk ratio as its line and the figure name it."""
     ratio = row["gain"].get("walk_ratio")
     return "walk: none" if ratio is None else f"walk {ratio:.2f}"
 
