@@ -26,9 +26,9 @@ VALUES = (0.0, 0.25, 0.5, 1.0)
 EXPERIMENT_NAMES = ("real-office", "real-outdoor")
 """Tables 5.3 and 5.4, the forward findings; Table 5.5's omnidirectional runs, 2.5x longer, are left out."""
 LEFT_OUT = {("real-office", "sac-utd20")}
+"""SAC-UTD20's 20 updates a step would cost more than the rest of a value together; no finding reads it."""
 WALKING = 0.05
 """m/s: a run standing slower than this at evaluation has no walk ratio (its ratio would be noise over nothing)."""
-"""SAC-UTD20's 20 updates a step would cost more than the rest of a value together; no finding reads it."""
 
 
 def folder(results_dir: Path, profile: str, protocol: str, value: float) -> Path:
