@@ -63,13 +63,24 @@ def run(results_dir: Path, profile: str, protocol: str, values: tuple = VALUES) 
         runner.run(config, seeds, path, progress=progress_wanted())
 
 
+def study_documents(where: Path):
+    """(experiment, label, document) of the value's complete runs that the study plans (value 0's omni and
+    SAC-UTD20 runs left out, so every value is measured over the same runs)."""
+    for name in EXPERIMENT_NAMES:
+        experiment = EXPERIMENTS[name]
+        documents = Results(where).documents(name) if (where / name).is_dir() else {}
+        for run in experiment.runs:
+            document = documents.get(experiment.label(run))
+            if (name, run.algo) not in LEFT_OUT and document and document.get("complete"):
+                yield name, experiment.label(run), document
+
+
 def gain(where: Path) -> dict | None:
     """Mean slope and correlation of estimate against truth over the value's runs (seeds pooled per run), or None
     where no run has its estimate's moments."""
     slopes, correlations = [], []
-    for path in sorted(where.glob("real-*/*.json")):
-        document = results.read_or_skip(path)
-        measured = analysis.estimate_gain(document) if document and document.get("complete") else None
+    for _, _, document in study_documents(where):
+        measured = analysis.estimate_gain(document)
         if measured:
             slopes += measured["slope"]
             correlations += measured["correlation"]
@@ -107,9 +118,7 @@ def walk_ratio(speeds: dict) -> float | None:
 def runs(where: Path) -> dict:
     """{experiment: {label: {velocity, estimated_velocity, falls}}} of the value's complete runs."""
     out = {}
-    for name in EXPERIMENT_NAMES:
-        for label, document in Results(where).documents(name).items() if (where / name).is_dir() else ():
-            if document.get("complete"):
-                row = summary(document)
-                out.setdefault(name, {})[label] = {k: row[k] for k in ("velocity", "estimated_velocity", "falls")}
+    for name, label, document in study_documents(where):
+        row = summary(document)
+        out.setdefault(name, {})[label] = {k: row[k] for k in ("velocity", "estimated_velocity", "falls")}
     return out

@@ -17,17 +17,22 @@ def test_the_study_plans_each_value_but_the_default_on_the_forward_real_world_ru
     assert estimate_gain.folder(tmp_path, "quick", "thesis-code", 0.0) == tmp_path / "quick" / "thesis-code"
 
 
-def test_each_value_is_scored_at_the_gain_its_runs_measured(tmp_path):
-    where = estimate_gain.folder(tmp_path, "quick", "thesis-code", 0.5)
-    document = real_world_document(0.3, falls=5.0)
+def with_estimate(document: dict, ratio: float) -> dict:
+    """`document` whose training estimate reads `ratio` x the truth exactly (slope `ratio`, correlation 1)."""
     chunks = len(document["steps"])
-    true, estimate = np.full((chunks, 2), 0.3), np.full((chunks, 2), 0.15)  # constant speeds: no spread
+    true = np.full((chunks, 2), 0.3)  # constant speeds: no spread
     spread = np.tile([[0.01, 0.02]], (chunks, 1))  # variance of the truth, per seed
     document["metrics"].update({
-        "train/desired_velocity": true.tolist(), "train/estimated_desired_velocity": estimate.tolist(),
-        "train/true_squared": (true ** 2 + spread).tolist(), "train/estimate_squared": (estimate ** 2 + spread / 4).tolist(),
-        "train/true_times_estimate": (true * estimate + spread / 2).tolist()})  # estimate = truth / 2 exactly
-    write_run(where, "real-office", "jt-oef", document)
+        "train/desired_velocity": true.tolist(), "train/estimated_desired_velocity": (ratio * true).tolist(),
+        "train/true_squared": (true ** 2 + spread).tolist(),
+        "train/estimate_squared": (ratio ** 2 * (true ** 2 + spread)).tolist(),
+        "train/true_times_estimate": (ratio * (true ** 2 + spread)).tolist()})
+    return document
+
+
+def test_each_value_is_scored_at_the_gain_its_runs_measured(tmp_path):
+    where = estimate_gain.folder(tmp_path, "quick", "thesis-code", 0.5)
+    write_run(where, "real-office", "jt-oef", with_estimate(real_world_document(0.3, falls=5.0), 0.5))
     row = estimate_gain.score(tmp_path, "quick", "thesis-code", (0.5,))[0]
     assert abs(row["gain"]["slope"] - 0.5) < 1e-9
     assert abs(row["gain"]["correlation"] - 1.0) < 1e-9
@@ -35,6 +40,17 @@ def test_each_value_is_scored_at_the_gain_its_runs_measured(tmp_path):
     assert row["runs"]["real-office"]["jt-oef"]["velocity"] == 0.3
     assert row["findings"]["real-faster-than-believed"]["holds"] is True  # 0.3 true against 0.05 believed
     assert row["findings"]["real-office-speeds"]["holds"] is None  # the other runs are not there
+
+
+def test_value_0_is_measured_over_the_runs_the_other_values_rerun(tmp_path):
+    where = estimate_gain.folder(tmp_path, "quick", "thesis-code", 0.0)
+    write_run(where, "real-office", "jt-oef", with_estimate(real_world_document(0.3, falls=5.0), 0.5))
+    write_run(where, "real-office", "jt-lpf sac-utd20", with_estimate(real_world_document(0.3, falls=5.0), 1.0))
+    write_run(where, "real-outdoor-omni", "jt-oef", with_estimate(real_world_document(0.3, falls=5.0), 1.0))
+    row = estimate_gain.score(tmp_path, "quick", "thesis-code", (0.0,))[0]
+    assert abs(row["gain"]["slope"] - 0.5) < 1e-9  # SAC-UTD20's and the omni run's slope of 1 left out
+    assert row["gain"]["seeds"] == 2
+    assert list(row["runs"]) == ["real-office"] and list(row["runs"]["real-office"]) == ["jt-oef"]
 
 
 def test_the_walk_ratio_averages_the_walking_runs_own_estimated_over_true_speed():
